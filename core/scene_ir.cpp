@@ -1,0 +1,482 @@
+#include "core/scene_ir.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/suggest.h"
+#include "core/units.h"
+
+namespace littoral::ir {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+Vec3 Sun::direction() const {
+    const double s = std::sin(zenith);
+    return {s * std::cos(azimuth), s * std::sin(azimuth), std::cos(zenith)};
+}
+
+const Material* SceneIR::findMaterial(const std::string& n) const {
+    for (const auto& m : materials)
+        if (m.name == n) return &m;
+    return nullptr;
+}
+const Medium* SceneIR::findMedium(const std::string& n) const {
+    for (const auto& m : media)
+        if (m.name == n) return &m;
+    return nullptr;
+}
+const Mesh* SceneIR::findMesh(const std::string& n) const {
+    for (const auto& m : meshes)
+        if (m.name == n) return &m;
+    return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+
+const char* toString(PhaseFunction::Type t) {
+    switch (t) {
+        case PhaseFunction::Type::Isotropic: return "isotropic";
+        case PhaseFunction::Type::HenyeyGreenstein: return "henyey-greenstein";
+        case PhaseFunction::Type::Petzold: return "petzold";
+        case PhaseFunction::Type::Rayleigh: return "rayleigh";
+    }
+    return "?";
+}
+const char* toString(Material::Type t) {
+    switch (t) {
+        case Material::Type::Lambertian: return "lambertian";
+        case Material::Type::Textured: return "textured";
+        case Material::Type::Dielectric: return "dielectric";
+        case Material::Type::RoughDielectric: return "rough-dielectric";
+        case Material::Type::Black: return "black";
+    }
+    return "?";
+}
+const char* toString(Material::Solver s) {
+    switch (s) {
+        case Material::Solver::Classic: return "classic";
+        case Material::Solver::Generic: return "generic";
+        case Material::Solver::Fresnel: return "fresnel";
+        case Material::Solver::SurfacePM: return "surface-pm";
+    }
+    return "?";
+}
+const char* toString(Sensor::Type t) { return t == Sensor::Type::Pinhole ? "pinhole" : "orthographic"; }
+
+Json spectrumJson(const Spectrum& s) {
+    if (s.isConstant()) return Json(s.values().empty() ? 0.0 : s.values()[0]);
+    Json j;
+    j["wavelengths_um"] = s.wavelengths();
+    j["values"] = s.values();
+    return j;
+}
+Json vecJson(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+std::string toJsonText(const SceneIR& s) {
+    Json j;
+    j["format"] = "littoral-scene-ir";
+    j["version"] = kFormatVersion;
+    j["name"] = s.name;
+    Json meta = Json::object();
+    for (const auto& [k, v] : s.metadata) meta[k] = v;
+    j["metadata"] = meta;
+
+    const auto& r = s.render;
+    Json bands = Json::array();
+    for (const auto& b : r.bands) bands.push_back(Json::array({b.lo, b.hi}));
+    j["render"] = {{"bands_um", bands},
+                   {"seed", r.seed},
+                   {"threads", r.threads},
+                   {"max_bounces", r.maxBounces},
+                   {"hemisphere_samples", r.hemisphereSamples},
+                   {"surface_photons", r.surfacePhotons},
+                   {"volume_photons", r.volumePhotons},
+                   {"surface_search_radius_m", r.surfaceSearchRadius},
+                   {"volume_search_radius_m", r.volumeSearchRadius},
+                   {"march_step_m", r.marchStep}};
+    j["sun"] = {{"enabled", s.sun.enabled},
+                {"zenith_rad", s.sun.zenith},
+                {"azimuth_rad", s.sun.azimuth},
+                {"half_angle_rad", s.sun.halfAngle},
+                {"irradiance", spectrumJson(s.sun.irradiance)}};
+    j["sky"] = {{"radiance", spectrumJson(s.sky.radiance)}};
+
+    Json media = Json::array();
+    for (const auto& m : s.media)
+        media.push_back({{"name", m.name},
+                         {"refractive_index", spectrumJson(m.refractiveIndex)},
+                         {"absorption_per_m", spectrumJson(m.absorption)},
+                         {"scattering_per_m", spectrumJson(m.scattering)},
+                         {"phase", {{"type", toString(m.phase.type)}, {"g", m.phase.g}}}});
+    j["media"] = media;
+
+    Json mats = Json::array();
+    for (const auto& m : s.materials) {
+        Json mj = {{"name", m.name},
+                   {"type", toString(m.type)},
+                   {"solver", toString(m.solver)},
+                   {"reflectance", spectrumJson(m.reflectance)}};
+        if (m.type == Material::Type::Textured)
+            mj["texture"] = {{"file", m.texture},
+                             {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
+        if (m.type == Material::Type::RoughDielectric) {
+            mj["wind_speed_mps"] = m.windSpeed;
+            mj["wind_azimuth_rad"] = m.windAzimuth;
+        }
+        mats.push_back(mj);
+    }
+    j["materials"] = mats;
+
+    Json meshes = Json::array();
+    for (const auto& m : s.meshes)
+        meshes.push_back({{"name", m.name},
+                          {"file", m.file},
+                          {"materials", m.materials},
+                          {"inside", m.inside},
+                          {"outside", m.outside},
+                          {"closed", m.closed}});
+    j["meshes"] = meshes;
+
+    Json inst = Json::array();
+    for (const auto& in : s.instances)
+        inst.push_back({{"mesh", in.mesh},
+                        {"rotation", std::vector<double>(in.rotation, in.rotation + 9)},
+                        {"translation_m", vecJson(in.translation)}});
+    j["instances"] = inst;
+
+    Json sensors = Json::array();
+    for (const auto& c : s.sensors) {
+        Json cj = {{"name", c.name},
+                   {"type", toString(c.type)},
+                   {"position_m", vecJson(c.position)},
+                   {"forward", vecJson(c.forward)},
+                   {"up", vecJson(c.up)},
+                   {"width", c.width},
+                   {"height", c.height}};
+        if (c.type == Sensor::Type::Pinhole) {
+            cj["focal_length_m"] = c.focalLength;
+            cj["pixel_pitch_m"] = c.pixelPitch;
+        } else {
+            cj["pixel_size_m"] = c.pixelSize;
+        }
+        cj["samples_per_pixel"] = c.samplesPerPixel;
+        cj["medium"] = c.medium;
+        sensors.push_back(cj);
+    }
+    j["sensors"] = sensors;
+
+    Json probes = Json::array();
+    for (const auto& p : s.probes)
+        probes.push_back({{"name", p.name},
+                          {"position_m", vecJson(p.position)},
+                          {"quantities", p.quantities},
+                          {"medium", p.medium}});
+    j["probes"] = probes;
+    return j.dump(2) + "\n";
+}
+
+void writeIR(const SceneIR& s, const fs::path& dir) {
+    fs::create_directories(dir);
+    std::set<std::string> files;
+    for (const auto& m : s.meshes) {
+        if (m.file.empty() || fs::path(m.file).is_absolute() || m.file.find("..") != std::string::npos)
+            throw InternalError("IR mesh '" + m.name + "' needs a relative file path inside the IR directory");
+        if (!files.insert(m.file).second) throw InternalError("IR meshes share the file " + m.file);
+        writePly(dir / m.file, m.data);
+    }
+    writeTextFileAtomic(dir / "scene.json", toJsonText(s));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading: strict, every mistake names scene.json and the JSON path.
+
+namespace {
+
+class JReader {
+public:
+    JReader(const Json& j, std::string path, const std::string& file) : j_(j), path_(std::move(path)), file_(file) {}
+
+    [[noreturn]] void fail(const std::string& msg) const {
+        throw InputError(SourceLoc{file_}, (path_.empty() ? std::string("(top level)") : path_) + ": " + msg);
+    }
+    void expectKeys(const std::vector<std::string>& allowed) const {
+        if (!j_.is_object()) fail("expected an object");
+        for (auto it = j_.begin(); it != j_.end(); ++it) {
+            if (std::find(allowed.begin(), allowed.end(), it.key()) != allowed.end()) continue;
+            std::string m = fmt::format("unknown key '{}' (allowed: {})", it.key(), joinList(allowed));
+            const auto near = closestMatch(it.key(), allowed);
+            if (!near.empty()) m += fmt::format("; did you mean '{}'?", near);
+            fail(m);
+        }
+    }
+    bool has(const std::string& k) const { return j_.is_object() && j_.contains(k); }
+    JReader operator[](const std::string& k) const {
+        if (!j_.is_object()) fail("expected an object");
+        auto it = j_.find(k);
+        if (it == j_.end()) fail("missing key '" + k + "'");
+        return JReader(*it, path_.empty() ? k : path_ + "." + k, file_);
+    }
+    JReader at(size_t i) const { return JReader(j_.at(i), fmt::format("{}[{}]", path_, i), file_); }
+    size_t size() const {
+        if (!j_.is_array()) fail("expected an array");
+        return j_.size();
+    }
+    double num() const {
+        if (!j_.is_number()) fail("expected a number");
+        return j_.get<double>();
+    }
+    int64_t integer() const {
+        if (!j_.is_number_integer()) fail("expected an integer");
+        return j_.get<int64_t>();
+    }
+    uint64_t uinteger() const {
+        if (!j_.is_number_unsigned() && !(j_.is_number_integer() && j_.get<int64_t>() >= 0))
+            fail("expected a non-negative integer");
+        return j_.get<uint64_t>();
+    }
+    bool boolean() const {
+        if (!j_.is_boolean()) fail("expected true or false");
+        return j_.get<bool>();
+    }
+    std::string str() const {
+        if (!j_.is_string()) fail("expected a string");
+        return j_.get<std::string>();
+    }
+    std::vector<std::string> strings() const {
+        std::vector<std::string> v;
+        for (size_t i = 0; i < size(); ++i) v.push_back(at(i).str());
+        return v;
+    }
+    std::vector<double> nums() const {
+        std::vector<double> v;
+        for (size_t i = 0; i < size(); ++i) v.push_back(at(i).num());
+        return v;
+    }
+    Vec3 vec3() const {
+        const auto v = nums();
+        if (v.size() != 3) fail("expected 3 numbers");
+        return {v[0], v[1], v[2]};
+    }
+    Spectrum spectrum() const {
+        if (j_.is_number()) return Spectrum::constant(num());
+        expectKeys({"wavelengths_um", "values"});
+        return Spectrum::tabulated((*this)["wavelengths_um"].nums(), (*this)["values"].nums(), file_ + ": " + path_);
+    }
+    template <class E>
+    E choice(const std::vector<std::pair<std::string, E>>& options) const {
+        const std::string s = str();
+        std::vector<std::string> names;
+        for (const auto& [n, e] : options) {
+            if (n == s) return e;
+            names.push_back(n);
+        }
+        fail(fmt::format("unknown value '{}' (allowed: {})", s, joinList(names)));
+    }
+
+private:
+    const Json& j_;
+    std::string path_;
+    const std::string& file_;
+};
+
+}  // namespace
+
+SceneIR fromJsonText(const std::string& text, const std::string& file) {
+    Json j;
+    try {
+        j = Json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(SourceLoc{file}, std::string("not valid JSON: ") + e.what());
+    }
+    JReader r(j, "", file);
+    r.expectKeys({"format", "version", "name", "metadata", "render", "sun", "sky", "media", "materials", "meshes",
+                  "instances", "sensors", "probes"});
+    if (r["format"].str() != "littoral-scene-ir") r["format"].fail("expected \"littoral-scene-ir\"");
+    if (r["version"].integer() != kFormatVersion)
+        r["version"].fail(fmt::format("this Littoral reads IR version {}", kFormatVersion));
+    SceneIR s;
+    s.name = r["name"].str();
+    {
+        auto m = r["metadata"];
+        if (!j["metadata"].is_object()) m.fail("expected an object");
+        for (auto it = j["metadata"].begin(); it != j["metadata"].end(); ++it) s.metadata[it.key()] = m[it.key()].str();
+    }
+    {
+        auto rr = r["render"];
+        rr.expectKeys({"bands_um", "seed", "threads", "max_bounces", "hemisphere_samples", "surface_photons",
+                       "volume_photons", "surface_search_radius_m", "volume_search_radius_m", "march_step_m"});
+        s.render.bands.clear();
+        auto bands = rr["bands_um"];
+        for (size_t i = 0; i < bands.size(); ++i) {
+            const auto v = bands.at(i).nums();
+            if (v.size() != 2 || !(v[1] > v[0]) || v[0] <= 0) bands.at(i).fail("expected [lo, hi] with 0 < lo < hi");
+            s.render.bands.push_back({v[0], v[1]});
+        }
+        s.render.seed = rr["seed"].uinteger();
+        s.render.threads = static_cast<int>(rr["threads"].integer());
+        s.render.maxBounces = static_cast<int>(rr["max_bounces"].integer());
+        s.render.hemisphereSamples = static_cast<int>(rr["hemisphere_samples"].integer());
+        s.render.surfacePhotons = rr["surface_photons"].uinteger();
+        s.render.volumePhotons = rr["volume_photons"].uinteger();
+        s.render.surfaceSearchRadius = rr["surface_search_radius_m"].num();
+        s.render.volumeSearchRadius = rr["volume_search_radius_m"].num();
+        s.render.marchStep = rr["march_step_m"].num();
+    }
+    {
+        auto sun = r["sun"];
+        sun.expectKeys({"enabled", "zenith_rad", "azimuth_rad", "half_angle_rad", "irradiance"});
+        s.sun.enabled = sun["enabled"].boolean();
+        s.sun.zenith = sun["zenith_rad"].num();
+        s.sun.azimuth = sun["azimuth_rad"].num();
+        s.sun.halfAngle = sun["half_angle_rad"].num();
+        s.sun.irradiance = sun["irradiance"].spectrum();
+        auto sky = r["sky"];
+        sky.expectKeys({"radiance"});
+        s.sky.radiance = sky["radiance"].spectrum();
+    }
+    auto media = r["media"];
+    for (size_t i = 0; i < media.size(); ++i) {
+        auto m = media.at(i);
+        m.expectKeys({"name", "refractive_index", "absorption_per_m", "scattering_per_m", "phase"});
+        Medium md;
+        md.name = m["name"].str();
+        md.refractiveIndex = m["refractive_index"].spectrum();
+        md.absorption = m["absorption_per_m"].spectrum();
+        md.scattering = m["scattering_per_m"].spectrum();
+        auto ph = m["phase"];
+        ph.expectKeys({"type", "g"});
+        md.phase.type = ph["type"].choice<PhaseFunction::Type>({{"isotropic", PhaseFunction::Type::Isotropic},
+                                                                {"henyey-greenstein", PhaseFunction::Type::HenyeyGreenstein},
+                                                                {"petzold", PhaseFunction::Type::Petzold},
+                                                                {"rayleigh", PhaseFunction::Type::Rayleigh}});
+        md.phase.g = ph["g"].num();
+        s.media.push_back(md);
+    }
+    auto mats = r["materials"];
+    for (size_t i = 0; i < mats.size(); ++i) {
+        auto m = mats.at(i);
+        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad"});
+        Material mt;
+        mt.name = m["name"].str();
+        mt.type = m["type"].choice<Material::Type>({{"lambertian", Material::Type::Lambertian},
+                                                    {"textured", Material::Type::Textured},
+                                                    {"dielectric", Material::Type::Dielectric},
+                                                    {"rough-dielectric", Material::Type::RoughDielectric},
+                                                    {"black", Material::Type::Black}});
+        mt.solver = m["solver"].choice<Material::Solver>({{"classic", Material::Solver::Classic},
+                                                          {"generic", Material::Solver::Generic},
+                                                          {"fresnel", Material::Solver::Fresnel},
+                                                          {"surface-pm", Material::Solver::SurfacePM}});
+        mt.reflectance = m["reflectance"].spectrum();
+        if (m.has("texture")) {
+            auto t = m["texture"];
+            t.expectKeys({"file", "extent_m"});
+            mt.texture = t["file"].str();
+            const auto e = t["extent_m"].nums();
+            if (e.size() != 4) t["extent_m"].fail("expected [x0, y0, x1, y1]");
+            mt.textureX0 = e[0];
+            mt.textureY0 = e[1];
+            mt.textureX1 = e[2];
+            mt.textureY1 = e[3];
+        }
+        if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
+        if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
+        s.materials.push_back(mt);
+    }
+    auto meshes = r["meshes"];
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        auto m = meshes.at(i);
+        m.expectKeys({"name", "file", "materials", "inside", "outside", "closed"});
+        Mesh me;
+        me.name = m["name"].str();
+        me.file = m["file"].str();
+        me.materials = m["materials"].strings();
+        me.inside = m["inside"].str();
+        me.outside = m["outside"].str();
+        me.closed = m["closed"].boolean();
+        for (const auto& mn : me.materials)
+            if (!s.findMaterial(mn)) m["materials"].fail("names material '" + mn + "', which is not defined");
+        for (const auto& md : {me.inside, me.outside})
+            if (!md.empty() && !s.findMedium(md)) m.fail("names medium '" + md + "', which is not defined");
+        s.meshes.push_back(me);
+    }
+    auto inst = r["instances"];
+    for (size_t i = 0; i < inst.size(); ++i) {
+        auto in = inst.at(i);
+        in.expectKeys({"mesh", "rotation", "translation_m"});
+        Instance x;
+        x.mesh = in["mesh"].str();
+        if (!s.findMesh(x.mesh)) in["mesh"].fail("names mesh '" + x.mesh + "', which is not defined");
+        const auto rot = in["rotation"].nums();
+        if (rot.size() != 9) in["rotation"].fail("expected 9 numbers (row-major 3x3)");
+        std::copy(rot.begin(), rot.end(), x.rotation);
+        x.translation = in["translation_m"].vec3();
+        s.instances.push_back(x);
+    }
+    auto sensors = r["sensors"];
+    for (size_t i = 0; i < sensors.size(); ++i) {
+        auto c = sensors.at(i);
+        c.expectKeys({"name", "type", "position_m", "forward", "up", "width", "height", "focal_length_m",
+                      "pixel_pitch_m", "pixel_size_m", "samples_per_pixel", "medium"});
+        Sensor se;
+        se.name = c["name"].str();
+        se.type = c["type"].choice<Sensor::Type>({{"pinhole", Sensor::Type::Pinhole},
+                                                  {"orthographic", Sensor::Type::Orthographic}});
+        se.position = c["position_m"].vec3();
+        se.forward = c["forward"].vec3();
+        se.up = c["up"].vec3();
+        se.width = static_cast<int>(c["width"].integer());
+        se.height = static_cast<int>(c["height"].integer());
+        if (se.type == Sensor::Type::Pinhole) {
+            se.focalLength = c["focal_length_m"].num();
+            se.pixelPitch = c["pixel_pitch_m"].num();
+        } else {
+            se.pixelSize = c["pixel_size_m"].num();
+        }
+        se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
+        se.medium = c["medium"].str();
+        if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");
+        s.sensors.push_back(se);
+    }
+    auto probes = r["probes"];
+    for (size_t i = 0; i < probes.size(); ++i) {
+        auto p = probes.at(i);
+        p.expectKeys({"name", "position_m", "quantities", "medium"});
+        Probe pr;
+        pr.name = p["name"].str();
+        pr.position = p["position_m"].vec3();
+        pr.quantities = p["quantities"].strings();
+        pr.medium = p["medium"].str();
+        s.probes.push_back(pr);
+    }
+    return s;
+}
+
+SceneIR readIR(const fs::path& dir) {
+    const fs::path jsonPath = dir / "scene.json";
+    if (!fs::exists(jsonPath)) throw InputError(SourceLoc{jsonPath.string()}, "no scene.json in the IR directory");
+    SceneIR s = fromJsonText(readTextFile(jsonPath), jsonPath.string());
+    for (auto& m : s.meshes) {
+        m.data = readPly(dir / m.file);
+        for (size_t f = 0; f < m.data.numTriangles(); ++f)
+            if (m.data.materialOf(f) >= std::max<size_t>(1, m.materials.size()))
+                throw InputError(SourceLoc{(dir / m.file).string()},
+                                 fmt::format("face {} uses material slot {}, but mesh '{}' lists {} materials", f,
+                                             m.data.materialOf(f), m.name, m.materials.size()));
+    }
+    return s;
+}
+
+}  // namespace littoral::ir

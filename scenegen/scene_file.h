@@ -1,0 +1,124 @@
+#pragma once
+// The scene file: what the user wrote, parsed and checked, before any geometry is generated.
+//
+// loadSceneFile() reads the YAML, checks every section strictly (unknown keys with "did you
+// mean", types, ranges, referenced files) and returns a SceneSpec. Sections that produce
+// geometry (water.surface, bathymetry, objects, texture_classes) are parsed by their own
+// modules' section parsers; this file owns scene, sun, sky, sensors, probes, materials,
+// water.optics and render. applyCommonSections() turns the non-geometric part into Scene IR.
+// Documentation of every key: docs/scene-format.md.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/scene_ir.h"
+#include "core/spectrum.h"
+#include "scenegen/yaml_reader.h"
+
+namespace littoral::scenegen {
+
+struct GeoOrigin {
+    double latitude = 0, longitude = 0, altitude = 0;  // degrees, degrees, metres
+};
+
+struct SceneSection {
+    std::string name = "scene";
+    std::optional<GeoOrigin> origin;
+    // Plan-view domain [x0, x1] x [y0, y1], metres, local frame (x east, y north).
+    double x0 = -45, x1 = 45, y0 = -30, y1 = 30;
+};
+
+struct SunSection {
+    bool enabled = true;
+    double zenith = 0;           // radians
+    double compassAzimuth = 0;   // radians clockwise from north (as the user gave it)
+    std::optional<std::string> dateTimeUtc;  // ISO 8601 "YYYY-MM-DDTHH:MM:SSZ" when set
+    double halfAngle = 0.5 * 0.53 * 3.14159265358979323846 / 180.0;
+    std::optional<Spectrum> irradiance;  // normal to the beam, W m^-2 um^-1
+};
+
+struct SkySection {
+    std::string model = "uniform";  // uniform | simple
+    std::optional<Spectrum> radiance;           // uniform
+    double hemisphereIrradiance = 1.0;          // simple: E_h, W m^-2 um^-1 on a horizontal plane
+    double skyFraction = 1.0;                   // simple: F_u
+};
+
+struct SensorSection {
+    std::string name;
+    std::string type;  // frame | pinhole | orthographic
+    SourceLoc loc;
+    // frame (dissertation Table 10.1): the sensor looks at `target` from elevation, compass
+    // azimuth and range; the GSD along the optical axis sets the IFOV = gsd / range.
+    double elevation = 0, compassAzimuth = 0, range = 0, gsd = 0;
+    Vec3 target;
+    // pinhole / orthographic
+    Vec3 position, direction{0, 0, -1}, up{0, 1, 0};
+    double focalLength = 0, pixelPitch = 0, pixelSize = 0;
+    int width = 0, height = 0;
+    int samplesPerPixel = 1;
+    std::string medium = "auto";  // auto | air | water
+};
+
+struct ProbeSection {
+    std::string name;
+    Vec3 position;
+    std::vector<std::string> quantities;
+    std::string medium = "auto";
+};
+
+struct MaterialSection {
+    std::string name;
+    std::string type;    // lambertian | textured | black
+    std::string solver;  // classic | generic | surface-pm
+    Spectrum reflectance = Spectrum::constant(0.0);
+    SourceLoc loc;
+};
+
+struct WaterOptics {
+    Spectrum refractiveIndex = Spectrum::constant(1.34);
+    Spectrum absorption = Spectrum::constant(0.0);  // m^-1
+    Spectrum scattering = Spectrum::constant(0.0);  // m^-1
+    ir::PhaseFunction phase{ir::PhaseFunction::Type::HenyeyGreenstein, 0.88};
+    std::string preset;  // the named IOP set used, if any
+    std::string interfaceSolver = "fresnel";  // fresnel (specular) | cox-munk (rough, later)
+};
+
+struct RenderSection {
+    ir::RenderSettings settings;
+};
+
+struct SceneSpec {
+    std::filesystem::path file;
+    SceneSection scene;
+    SunSection sun;
+    SkySection sky;
+    std::vector<SensorSection> sensors;
+    std::vector<ProbeSection> probes;
+    std::vector<MaterialSection> materials;
+    bool hasWater = false;
+    double waterLevel = 0.0;
+    WaterOptics waterOptics;
+    // Geometry-producing sections, kept as checked YAML nodes for their modules' parsers.
+    std::optional<YamlNode> waterSurface, bathymetry, objects, textureClasses;
+    RenderSection render;
+};
+
+// Parses and validates a scene file. Throws InputError (file:line:column) on any mistake.
+SceneSpec loadSceneFile(const std::filesystem::path& file);
+SceneSpec parseScene(const YamlNode& root, const std::filesystem::path& file);
+
+// Named IOP sets: dissertation Table 10.3 (low, moderate, high; sums of chlorophyll, TSS and
+// CDOM at 0.4/0.5/0.6 um) and Table 9.3 water groups. Returns false if unknown.
+std::vector<std::string> iopPresetNames();
+bool iopPreset(const std::string& name, WaterOptics* out);
+
+// Fills sun, sky, media ("water" when the scene has water), materials, sensors, probes and render
+// settings of the IR from the spec. Geometry (meshes) is added by the scene assembler.
+void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir);
+
+// Frame-camera placement (Table 10.1): camera position, forward, up and pinhole intrinsics.
+ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater);
+
+}  // namespace littoral::scenegen

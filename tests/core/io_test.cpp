@@ -1,0 +1,198 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/scene_ir.h"
+#include "core/suggest.h"
+
+using namespace littoral;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path freshDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("littoral_core_test_" + name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+// A unit cube, outward-oriented: volume 1, area 6.
+TriMesh unitCube() {
+    TriMesh m;
+    for (int i = 0; i < 8; ++i) m.positions.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+    m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    m.faceMaterial = {0, 0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0};
+    return m;
+}
+}  // namespace
+
+TEST(Mesh, CubeVolumeAndArea) {
+    const auto m = unitCube();
+    EXPECT_NEAR(m.signedVolume(), 1.0, 1e-15);
+    EXPECT_NEAR(m.area(), 6.0, 1e-15);
+}
+
+TEST(Mesh, PlyRoundTripIsExact) {
+    const auto d = freshDir("ply");
+    auto m = unitCube();
+    m.positions[3] = {0.1 + 0.2, 1.0 / 3.0, -7e-300};  // values that text formats would round
+    writePly(d / "cube.ply", m);
+    const auto r = readPly(d / "cube.ply");
+    EXPECT_EQ(r.positions, m.positions);
+    EXPECT_EQ(r.triangles, m.triangles);
+    EXPECT_EQ(r.faceMaterial, m.faceMaterial);
+    // No temporary files left beside the output.
+    int files = 0;
+    for (auto& e : fs::directory_iterator(d)) { (void)e; ++files; }
+    EXPECT_EQ(files, 1);
+}
+
+TEST(Mesh, ReadsAsciiPlyWithQuads) {
+    const auto d = freshDir("ascii");
+    std::ofstream(d / "q.ply") << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                  "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+    const auto m = readPly(d / "q.ply");
+    EXPECT_EQ(m.numTriangles(), 2u);
+    EXPECT_NEAR(m.area(), 1.0, 1e-12);
+}
+
+TEST(Mesh, CorruptPlyRejectedWithFileName) {
+    const auto d = freshDir("corrupt");
+    std::ofstream(d / "empty.ply");
+    std::ofstream(d / "bad.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                    "end_header\n0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n";
+    std::ofstream(d / "short.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float z\nend_header\n0 0 0\n1 0\n";
+    for (const char* f : {"empty.ply", "bad.ply", "short.ply", "missing.ply"}) {
+        try {
+            readPly(d / f);
+            FAIL() << f << " should be rejected";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(AtomicOutput, FailedWriteLeavesPreviousFileIntact) {
+    const auto d = freshDir("atomic");
+    writeTextFileAtomic(d / "out.txt", "good");
+    try {
+        writeFileAtomic(d / "out.txt", [](const fs::path& tmp) {
+            std::ofstream(tmp) << "partial";
+            throw InputError("simulated failure half-way");
+        });
+    } catch (const InputError&) {
+    }
+    EXPECT_EQ(readTextFile(d / "out.txt"), "good");
+    int files = 0;
+    for (auto& e : fs::directory_iterator(d)) { (void)e; ++files; }
+    EXPECT_EQ(files, 1) << "the temporary file must be removed";
+}
+
+TEST(Suggest, DidYouMean) {
+    const std::vector<std::string> keys = {"wind_speed", "wind_direction_deg", "gsd_m", "range_m"};
+    EXPECT_EQ(closestMatch("wind_sped", keys), "wind_speed");
+    EXPECT_EQ(closestMatch("gsd", keys), "gsd_m");
+    EXPECT_EQ(closestMatch("colour", keys), "");
+    EXPECT_EQ(editDistance("kitten", "sitting"), 3);
+}
+
+TEST(SourceLoc, Formatting) {
+    EXPECT_EQ((SourceLoc{"a.yaml", 3, 7}).str(), "a.yaml:3:7");
+    EXPECT_EQ((SourceLoc{"a.yaml", 3, 0}).str(), "a.yaml:3");
+    const InputError e(SourceLoc{"a.yaml", 3, 7}, "bad");
+    EXPECT_STREQ(e.what(), "a.yaml:3:7: bad");
+    EXPECT_EQ(e.message(), "bad");
+}
+
+namespace {
+ir::SceneIR sampleIR() {
+    ir::SceneIR s;
+    s.name = "round-trip";
+    s.render.bands = uniformBands(0.4, 0.7, 3);
+    s.render.seed = 12345678901234ULL;
+    s.sun.zenith = 0.5235987755982988;
+    s.sun.azimuth = -2.356194490192345;
+    s.sun.irradiance = Spectrum::tabulated({0.35, 0.55, 0.75}, {1500.1, 1800.25, 1400.0 / 3.0});
+    s.sky.radiance = Spectrum::constant(0.1 + 0.2);
+    ir::Medium w;
+    w.name = "water";
+    w.refractiveIndex = Spectrum::constant(1.34);
+    w.absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
+    w.phase = {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88};
+    s.media.push_back(w);
+    ir::Material sand{.name = "sand", .reflectance = Spectrum::constant(0.3)};
+    ir::Material iface{.name = "interface", .type = ir::Material::Type::Dielectric, .solver = ir::Material::Solver::Fresnel};
+    ir::Material tex{.name = "grass", .type = ir::Material::Type::Textured, .reflectance = Spectrum::constant(0.1),
+                     .texture = "textures/grass.exr", .textureX0 = -45, .textureY0 = -30, .textureX1 = 45, .textureY1 = 30};
+    s.materials = {sand, iface, tex};
+    ir::Mesh m;
+    m.name = "water";
+    m.file = "meshes/water.ply";
+    m.materials = {"sand", "interface"};
+    m.inside = "water";
+    m.closed = true;
+    m.data = unitCube();
+    s.meshes.push_back(m);
+    ir::Instance in;
+    in.mesh = "water";
+    in.translation = {1, 2, 3};
+    s.instances.push_back(in);
+    ir::Sensor c;
+    c.name = "cam";
+    c.position = {0, 0, 500};
+    c.width = 64;
+    c.height = 48;
+    c.focalLength = 0.025;
+    c.pixelPitch = 1e-5;
+    s.sensors.push_back(c);
+    s.probes.push_back({"p", {0, 0, -1}, {"Ed", "Lu"}, "water"});
+    s.metadata["generator"] = "test";
+    return s;
+}
+}  // namespace
+
+// write -> read -> write must give byte-identical files (scene.json and every PLY).
+TEST(SceneIR, RoundTripIsByteIdentical) {
+    const auto d1 = freshDir("ir1"), d2 = freshDir("ir2");
+    const auto s = sampleIR();
+    ir::writeIR(s, d1);
+    const auto r = ir::readIR(d1);
+    ir::writeIR(r, d2);
+    EXPECT_EQ(readTextFile(d1 / "scene.json"), readTextFile(d2 / "scene.json"));
+    EXPECT_EQ(readTextFile(d1 / "meshes/water.ply"), readTextFile(d2 / "meshes/water.ply"));
+    EXPECT_EQ(r.render.seed, s.render.seed);
+    EXPECT_EQ(r.sun.irradiance.values(), s.sun.irradiance.values());
+    EXPECT_EQ(r.meshes[0].data.positions, s.meshes[0].data.positions);
+    EXPECT_EQ(r.materials[2].texture, "textures/grass.exr");
+}
+
+TEST(SceneIR, StrictReaderNamesThePath) {
+    const auto s = sampleIR();
+    std::string text = ir::toJsonText(s);
+    auto expectError = [](const std::string& t, const std::string& needle) {
+        try {
+            ir::fromJsonText(t, "scene.json");
+            FAIL() << "expected an error containing " << needle;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    std::string t1 = text;
+    t1.replace(t1.find("\"solver\": \"fresnel\""), 19, "\"solver\": \"fresnell\"");
+    expectError(t1, "materials[1].solver");
+    std::string t2 = text;
+    t2.replace(t2.find("\"inside\""), 8, "\"insde\"");
+    expectError(t2, "did you mean 'inside'");
+    std::string t3 = text;
+    t3.replace(t3.rfind("\"sand\""), 6, "\"snad\"");  // the mesh's reference, not the definition
+    expectError(t3, "material 'snad'");
+    expectError("{not json", "not valid JSON");
+}

@@ -1,0 +1,78 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/bbox.h"
+#include "core/frame.h"
+#include "core/rng.h"
+#include "core/units.h"
+#include "core/vec.h"
+
+using namespace littoral;
+
+// Identities hold to rounding: |a x b|^2 + (a.b)^2 = |a|^2 |b|^2 (Lagrange), a.(a x b) = 0.
+TEST(Vec3, LagrangeIdentityAndOrthogonality) {
+    RandomStream rs(1, 0, 0);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3 a{rs.uniform() * 2 - 1, rs.uniform() * 2 - 1, rs.uniform() * 2 - 1};
+        const Vec3 b{rs.uniform() * 2 - 1, rs.uniform() * 2 - 1, rs.uniform() * 2 - 1};
+        const double lhs = lengthSquared(cross(a, b)) + sqr(dot(a, b));
+        EXPECT_NEAR(lhs, lengthSquared(a) * lengthSquared(b), 1e-14);
+        EXPECT_NEAR(dot(a, cross(a, b)), 0.0, 1e-15);
+    }
+}
+
+// Frames built from any normal (including both poles) are orthonormal and right-handed,
+// and toLocal/toWorld are inverse to rounding.
+TEST(Frame, OrthonormalForAllNormals) {
+    RandomStream rs(2, 0, 0);
+    std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {1e-9, 0, -1}};
+    for (int i = 0; i < 1000; ++i) {
+        const double z = 2 * rs.uniform() - 1, phi = 2 * kPi * rs.uniform();
+        const double r = std::sqrt(1 - z * z);
+        normals.push_back({r * std::cos(phi), r * std::sin(phi), z});
+    }
+    for (const Vec3& n : normals) {
+        const Frame f = Frame::fromNormal(n);
+        EXPECT_NEAR(length(f.s), 1.0, 1e-12);
+        EXPECT_NEAR(length(f.t), 1.0, 1e-12);
+        EXPECT_NEAR(dot(f.s, f.t), 0.0, 1e-12);
+        EXPECT_NEAR(dot(f.s, f.n), 0.0, 1e-12);
+        EXPECT_NEAR(dot(f.t, f.n), 0.0, 1e-12);
+        EXPECT_NEAR(dot(cross(f.s, f.t), f.n), 1.0, 1e-12);
+        const Vec3 v{0.3, -0.2, 0.9};
+        EXPECT_NEAR(length(f.toWorld(f.toLocal(v)) - v), 0.0, 1e-12);
+    }
+}
+
+// Snell's law n1 sin(t1) = n2 sin(t2) (dissertation Eq. 4.1), and total internal reflection
+// beyond the critical angle asin(1/1.34) = 48.27 deg for water-to-air.
+TEST(Refract, SnellAndCriticalAngle) {
+    const double n = 1.34;
+    for (double deg = 0; deg < 89.5; deg += 0.5) {
+        const double ti = deg2rad(deg);
+        const Vec3 wi{std::sin(ti), 0, std::cos(ti)};  // air side, pointing away from the surface
+        Vec3 wt;
+        ASSERT_TRUE(refract(wi, {0, 0, 1}, 1.0 / n, &wt));
+        EXPECT_NEAR(length(wt), 1.0, 1e-12);
+        EXPECT_NEAR(std::sin(ti), n * std::hypot(wt.x, wt.y), 1e-12);
+        EXPECT_LT(wt.z, 0.0);
+    }
+    const double crit = std::asin(1.0 / n);
+    EXPECT_NEAR(rad2deg(crit), 48.2682, 1e-4);
+    Vec3 wt;
+    const double below = crit - 1e-6, above = crit + 1e-6;
+    EXPECT_TRUE(refract({std::sin(below), 0, std::cos(below)}, {0, 0, 1}, n, &wt));
+    EXPECT_FALSE(refract({std::sin(above), 0, std::cos(above)}, {0, 0, 1}, n, &wt));
+}
+
+TEST(BBox, SlabIntersection) {
+    BBox3 b;
+    b.expand(Vec3{-1, -1, -1});
+    b.expand(Vec3{1, 1, 1});
+    double t0, t1;
+    ASSERT_TRUE(b.intersect(Ray{{-5, 0, 0}, {1, 0, 0}}, &t0, &t1));
+    EXPECT_DOUBLE_EQ(t0, 4.0);
+    EXPECT_DOUBLE_EQ(t1, 6.0);
+    EXPECT_FALSE(b.intersect(Ray{{-5, 2, 0}, {1, 0, 0}}, &t0, &t1));
+}
