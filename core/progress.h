@@ -30,7 +30,7 @@ private:
     std::string label_, unit_;
     uint64_t total_;
     std::atomic<uint64_t> done_{0};
-    std::atomic<int> lastDecile_{-1};
+    std::atomic<int> lastDecile_{0};
     std::chrono::steady_clock::time_point start_, lastDraw_;
     std::mutex mutex_;
     bool tty_ = false;

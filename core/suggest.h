@@ -6,7 +6,7 @@
 
 namespace littoral {
 
-// Levenshtein distance (insert, delete, substitute, each cost 1), case-sensitive.
+// Edit distance (insert, delete, substitute, transpose adjacent: each cost 1), case-sensitive.
 int editDistance(std::string_view a, std::string_view b);
 
 // The candidate closest to `word` if it is close enough to be a plausible typo

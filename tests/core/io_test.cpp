@@ -102,6 +102,7 @@ TEST(Suggest, DidYouMean) {
     EXPECT_EQ(closestMatch("gsd", keys), "gsd_m");
     EXPECT_EQ(closestMatch("colour", keys), "");
     EXPECT_EQ(editDistance("kitten", "sitting"), 3);
+    EXPECT_EQ(editDistance("lwo", "low"), 1);
 }
 
 TEST(SourceLoc, Formatting) {

@@ -1,0 +1,190 @@
+// Scene-format tests: every kind of mistake is reported with file:line:column and the key.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "scenegen/scene_file.h"
+
+using namespace littoral;
+using namespace littoral::scenegen;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kValid = R"(scene:
+  name: unit
+sun:
+  zenith_deg: 30
+  azimuth_deg: 315
+  irradiance: 1500
+sky:
+  radiance: 30
+water:
+  optics:
+    preset: low
+    phase: {type: henyey-greenstein, g: 0.88}
+materials:
+  - name: sand
+    reflectance: 0.3
+sensors:
+  - name: cam
+    type: frame
+    elevation_deg: 60
+    azimuth_deg: 315
+    range_m: 500
+    gsd_m: 0.2
+    width: 64
+    height: 48
+render:
+  bands: {range_um: [0.4, 0.6], count: 2}
+)";
+
+fs::path writeScene(const std::string& name, const std::string& text) {
+    const fs::path d = fs::temp_directory_path() / "littoral_scene_file_test";
+    fs::create_directories(d);
+    const fs::path p = d / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+std::string replaceOnce(std::string s, const std::string& from, const std::string& to) {
+    const auto pos = s.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    return s.replace(pos, from.size(), to);
+}
+
+// Loads the scene and returns the error text; fails the test if the scene loads.
+std::string errorOf(const std::string& name, const std::string& text) {
+    const fs::path p = writeScene(name, text);
+    try {
+        loadSceneFile(p);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << name << " was accepted";
+    return "";
+}
+
+// "file:line:column:" at the start of the message, with the expected line and column.
+void expectLocation(const std::string& msg, const std::string& file, int line, int column) {
+    const std::regex re("^(.*):(\\d+):(\\d+): ");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(msg, m, re)) << msg;
+    EXPECT_NE(m[1].str().find(file), std::string::npos) << msg;
+    EXPECT_EQ(std::stoi(m[2].str()), line) << msg;
+    EXPECT_EQ(std::stoi(m[3].str()), column) << msg;
+}
+
+}  // namespace
+
+TEST(SceneFile, ValidSceneParses) {
+    const auto spec = loadSceneFile(writeScene("valid.yaml", kValid));
+    EXPECT_EQ(spec.scene.name, "unit");
+    ASSERT_EQ(spec.sensors.size(), 1u);
+    EXPECT_NEAR(spec.sun.zenith, deg2rad(30), 1e-15);
+    EXPECT_EQ(spec.render.settings.bands.size(), 2u);
+    EXPECT_EQ(spec.waterOptics.preset, "low");
+    // Table 10.3 "Low" at 0.5 um: a = 0.001469 + 0.003963 + 0.001472 = 0.006904 m^-1.
+    EXPECT_NEAR(spec.waterOptics.absorption.at(0.5), 0.006904, 1e-12);
+}
+
+TEST(SceneFile, UnknownKey) {
+    const auto msg = errorOf("unknown.yaml", replaceOnce(kValid, "  name: unit\n", "  name: unit\n  colour: blue\n"));
+    expectLocation(msg, "unknown.yaml", 3, 3);
+    EXPECT_NE(msg.find("scene.colour"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("unknown key"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("allowed: name, origin, domain"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, MisspeltKeySuggestsTheRightOne) {
+    const auto msg = errorOf("misspelt.yaml", replaceOnce(kValid, "    range_m: 500", "    rnage_m: 500"));
+    expectLocation(msg, "misspelt.yaml", 21, 5);
+    EXPECT_NE(msg.find("sensors[0].rnage_m"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("did you mean 'range_m'?"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, WrongType) {
+    const auto msg = errorOf("type.yaml", replaceOnce(kValid, "    width: 64", "    width: wide"));
+    expectLocation(msg, "type.yaml", 23, 12);
+    EXPECT_NE(msg.find("sensors[0].width"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("expected an integer"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, OutOfRangeNumberNamesTheAllowedRange) {
+    const auto msg = errorOf("range.yaml", replaceOnce(kValid, "  zenith_deg: 30", "  zenith_deg: 95"));
+    expectLocation(msg, "range.yaml", 4, 15);
+    EXPECT_NE(msg.find("sun.zenith_deg"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("allowed [0, 90] degrees"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, MissingReferencedFile) {
+    const auto msg = errorOf("missing.yaml", replaceOnce(kValid, "    reflectance: 0.3", "    reflectance: {file: no_such_sand.csv}"));
+    expectLocation(msg, "missing.yaml", 15, 25);
+    EXPECT_NE(msg.find("materials[0].reflectance.file"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("no_such_sand.csv"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, MissingRequiredKey) {
+    const auto msg = errorOf("required.yaml", replaceOnce(kValid, "    gsd_m: 0.2\n", ""));
+    EXPECT_NE(msg.find("missing required key 'gsd_m'"), std::string::npos) << msg;
+    expectLocation(msg, "required.yaml", 17, 5);  // the sensor's map starts at its first key
+}
+
+TEST(SceneFile, UnknownEnumValueSuggests) {
+    const auto msg = errorOf("enum.yaml", replaceOnce(kValid, "preset: low", "preset: lwo"));
+    expectLocation(msg, "enum.yaml", 11, 13);
+    EXPECT_NE(msg.find("did you mean 'low'?"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, BandOutsideTabulatedReflectance) {
+    const auto msg = errorOf("band.yaml", replaceOnce(kValid, "    reflectance: 0.3",
+                                                      "    reflectance: {wavelengths_um: [0.45, 0.7], values: [0.2, 0.3]}"));
+    EXPECT_NE(msg.find("does not cover the band [0.4, 0.5] um"), std::string::npos) << msg;
+    expectLocation(msg, "band.yaml", 14, 5);
+}
+
+TEST(SceneFile, YamlSyntaxErrorHasLocation) {
+    const auto msg = errorOf("syntax.yaml", replaceOnce(kValid, "  bands: {range_um: [0.4, 0.6], count: 2}", "  bands: {range_um: [0.4, 0.6"));
+    EXPECT_NE(msg.find("YAML syntax error"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("syntax.yaml:"), std::string::npos) << msg;
+}
+
+TEST(SceneFile, DuplicateNamesRejected) {
+    const auto msg = errorOf("dup.yaml", replaceOnce(kValid, "    reflectance: 0.3\n", "    reflectance: 0.3\n  - name: sand\n    reflectance: 0.5\n"));
+    EXPECT_NE(msg.find("material name 'sand' is used twice"), std::string::npos) << msg;
+}
+
+// Table 10.1 frame geometry: sensor at elevation 60 deg, compass azimuth 315 deg (north-west),
+// range 500 m. Its position is 500 (cos60 sin315, cos60 cos315, sin60) = (-176.78, 176.78, 433.01)
+// and its IFOV = GSD / range = 0.2 / 500 = 0.4 mrad (spec/seed-ch05-10.md §3.2).
+TEST(SceneFile, FrameSensorPlacement) {
+    const auto spec = loadSceneFile(writeScene("frame.yaml", kValid));
+    const auto c = placeSensor(spec.sensors[0], 0.0, true);
+    EXPECT_NEAR(c.position.x, -176.7767, 1e-4);
+    EXPECT_NEAR(c.position.y, 176.7767, 1e-4);
+    EXPECT_NEAR(c.position.z, 433.0127, 1e-4);
+    EXPECT_NEAR(length(c.forward + c.position / 500.0), 0.0, 1e-12);
+    EXPECT_NEAR(c.pixelPitch / c.focalLength, 0.4e-3, 1e-15);
+    EXPECT_EQ(c.medium, "");
+}
+
+// DIRSIG simple atmosphere (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi, and the sun carries
+// (1 - F) E_h on a horizontal plane, i.e. (1 - F) E_h / cos(zenith) normal to the beam.
+TEST(SceneFile, SimpleAtmosphereSplit) {
+    std::string t = replaceOnce(kValid, "  irradiance: 1500\n", "");
+    t = replaceOnce(t, "  radiance: 30\n", "  model: simple\n  hemisphere_irradiance: 1.0\n  sky_fraction: 0.5\n");
+    const auto spec = loadSceneFile(writeScene("simple.yaml", t));
+    ir::SceneIR s;
+    applyCommonSections(spec, &s);
+    EXPECT_NEAR(s.sky.radiance.at(0.5), 0.5 / kPi, 1e-15);
+    EXPECT_NEAR(s.sun.irradiance.at(0.5) * std::cos(s.sun.zenith), 0.5, 1e-12);
+    // Compass 315 deg (north-west) -> IR azimuth counter-clockwise from east = 135 deg.
+    EXPECT_NEAR(rad2deg(s.sun.azimuth), 135.0, 1e-12);
+    EXPECT_NEAR(s.sun.direction().x, -s.sun.direction().y, 1e-12);
+    EXPECT_LT(s.sun.direction().x, 0.0);
+}
