@@ -20,7 +20,12 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     auto& g = globalOptions();
     app.add_flag("--stats", g.stats, "Print named statistics counters when the command ends");
-    app.add_flag("-q,--quiet", g.quiet, "No progress output");
+    // Flag callbacks of the main app run before any subcommand's callback, so --quiet takes
+    // effect for the whole command.
+    app.add_flag_callback("-q,--quiet", [&g] {
+        g.quiet = true;
+        Progress::setEnabled(false);
+    }, "No progress output");
     for (auto& [name, setup] : commandRegistry()) setup(app);
     try {
         app.parse(argc, argv);
