@@ -100,7 +100,9 @@ std::string toJsonText(const SceneIR& s) {
                    {"seed", r.seed},
                    {"threads", r.threads},
                    {"max_bounces", r.maxBounces},
+                   {"max_specular_depth", r.maxSpecularDepth},
                    {"hemisphere_samples", r.hemisphereSamples},
+                   {"probe_samples", r.probeSamples},
                    {"surface_photons", r.surfacePhotons},
                    {"volume_photons", r.volumePhotons},
                    {"surface_search_radius_m", r.surfaceSearchRadius},
@@ -315,7 +317,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     }
     {
         auto rr = r["render"];
-        rr.expectKeys({"bands_um", "seed", "threads", "max_bounces", "hemisphere_samples", "surface_photons",
+        rr.expectKeys({"bands_um", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
+                       "probe_samples", "surface_photons",
                        "volume_photons", "surface_search_radius_m", "volume_search_radius_m", "march_step_m"});
         s.render.bands.clear();
         auto bands = rr["bands_um"];
@@ -327,7 +330,9 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         s.render.seed = rr["seed"].uinteger();
         s.render.threads = static_cast<int>(rr["threads"].integer());
         s.render.maxBounces = static_cast<int>(rr["max_bounces"].integer());
+        s.render.maxSpecularDepth = static_cast<int>(rr["max_specular_depth"].integer());
         s.render.hemisphereSamples = static_cast<int>(rr["hemisphere_samples"].integer());
+        s.render.probeSamples = static_cast<int>(rr["probe_samples"].integer());
         s.render.surfacePhotons = rr["surface_photons"].uinteger();
         s.render.volumePhotons = rr["volume_photons"].uinteger();
         s.render.surfaceSearchRadius = rr["surface_search_radius_m"].num();

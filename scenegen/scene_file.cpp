@@ -1,12 +1,14 @@
 #include "scenegen/scene_file.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "core/solar_position.h"
 #include "core/units.h"
 
 namespace littoral::scenegen {
@@ -238,8 +240,8 @@ void parseWater(const YamlNode& n, SceneSpec* spec) {
 }
 
 void parseRender(const YamlNode& n, RenderSection* r) {
-    n.expectKeys({"bands", "seed", "threads", "max_bounces", "hemisphere_samples", "photons", "search_radius_m",
-                  "march_step_m"});
+    n.expectKeys({"bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
+                  "probe_samples", "photons", "search_radius_m", "march_step_m"});
     auto& s = r->settings;
     if (auto b = n.optional("bands")) {
         s.bands.clear();
@@ -260,7 +262,9 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     s.seed = static_cast<uint64_t>(n.getInt("seed", 1, 0, (1LL << 62)));
     s.threads = static_cast<int>(n.getInt("threads", 0, 0, 1024));
     s.maxBounces = static_cast<int>(n.getInt("max_bounces", 8, 0, 1000));
+    s.maxSpecularDepth = static_cast<int>(n.getInt("max_specular_depth", s.maxSpecularDepth, 0, 1000));
     s.hemisphereSamples = static_cast<int>(n.getInt("hemisphere_samples", 64, 1, 1 << 20));
+    s.probeSamples = static_cast<int>(n.getInt("probe_samples", s.probeSamples, 2, 1 << 26));
     if (auto p = n.optional("photons")) {
         p->expectKeys({"surface", "volume"});
         s.surfacePhotons = static_cast<uint64_t>(p->getInt("surface", 0, 0, 10'000'000'000LL));
@@ -421,13 +425,31 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     ir->sun.enabled = spec.sun.enabled;
     ir->sun.zenith = spec.sun.zenith;
     ir->sun.azimuth = std::remainder(kPi / 2 - spec.sun.compassAzimuth, 2 * kPi);
+    double sunZenith = spec.sun.zenith;
+    if (spec.sun.enabled && spec.sun.dateTimeUtc) {
+        // NREL SPA (core/solar_position.h) at the scene origin; parseSun checked the format.
+        SolarPositionInput in;
+        std::sscanf(spec.sun.dateTimeUtc->c_str(), "%4d-%2d-%2dT%2d:%2d:%lfZ", &in.year, &in.month, &in.day, &in.hour,
+                    &in.minute, &in.second);
+        in.latitudeDeg = spec.scene.origin->latitude;
+        in.longitudeDeg = spec.scene.origin->longitude;
+        in.elevationM = spec.scene.origin->altitude;
+        const SolarPosition p = solarPosition(in);
+        const SunAnglesIr a = sunAnglesForIr(p);
+        ir->sun.zenith = sunZenith = a.zenith;
+        ir->sun.azimuth = a.azimuth;
+        ir->metadata["sun.date_time_utc"] = *spec.sun.dateTimeUtc;
+        ir->metadata["sun.zenith_deg"] = fmt::format("{:.6f}", p.zenithDeg);
+        ir->metadata["sun.azimuth_deg"] = fmt::format("{:.6f}", p.azimuthDeg);
+        if (p.zenithDeg >= 90.0) ir->sun.enabled = false;  // below the horizon: sky only
+    }
     ir->sun.halfAngle = spec.sun.halfAngle;
     if (spec.sky.model == "simple") {
         // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi and the sun
         // carries the rest of the horizontal irradiance, (1 - F) E_h, i.e. (1 - F) E_h / cos(zenith)
         // on a plane normal to the beam.
         ir->sky.radiance = Spectrum::constant(spec.sky.skyFraction * spec.sky.hemisphereIrradiance * kInvPi);
-        const double cz = std::cos(spec.sun.zenith);
+        const double cz = std::cos(sunZenith);
         ir->sun.irradiance = Spectrum::constant(
             spec.sun.enabled && cz > 1e-6 ? (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance / cz : 0.0);
         if (spec.sky.skyFraction >= 1.0) ir->sun.enabled = false;
