@@ -1,0 +1,362 @@
+// Elevation rasters: ESRI ASCII grids (own parser) and TIFF/GeoTIFF (pixels via OpenImageIO,
+// georeferencing via geotiff_tags), interpolated bilinearly between sample centres.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include "bathymetry/geotiff_tags.h"
+#include "bathymetry/param_check.h"
+#include "bathymetry/terrain.h"
+#include "core/suggest.h"
+
+namespace littoral::bathymetry {
+
+namespace {
+
+// A regular grid of samples; row 0 is the northernmost. Sample (i, j) sits at
+// x = xc0 + i dx, y = yTop - j dy (sample centres).
+struct Grid {
+    long nx = 0, ny = 0;
+    double xc0 = 0, yTop = 0, dx = 1, dy = 1;
+    std::vector<double> z;  // row-major, metres after scale/offset
+};
+
+class RasterTerrain final : public Terrain {
+public:
+    RasterTerrain(Grid g, std::string name) : g_(std::move(g)), name_(std::move(name)) {}
+
+    double elevation(double x, double y) const override {
+        // Bilinear interpolation in the cell containing (x, y); outside the extent the point is
+        // clamped to the nearest edge point first (documented in terrain.h).
+        const double u = std::clamp((x - g_.xc0) / g_.dx, 0.0, double(g_.nx - 1));
+        const double v = std::clamp((g_.yTop - y) / g_.dy, 0.0, double(g_.ny - 1));
+        const long i = std::min(static_cast<long>(u), g_.nx - 2), j = std::min(static_cast<long>(v), g_.ny - 2);
+        const double fu = u - double(i), fv = v - double(j);
+        const double* r0 = &g_.z[size_t(j) * size_t(g_.nx) + size_t(i)];
+        const double* r1 = r0 + g_.nx;
+        return (1 - fv) * ((1 - fu) * r0[0] + fu * r0[1]) + fv * ((1 - fu) * r1[0] + fu * r1[1]);
+    }
+    Extent extent() const override {
+        return {g_.xc0, g_.yTop - double(g_.ny - 1) * g_.dy, g_.xc0 + double(g_.nx - 1) * g_.dx, g_.yTop};
+    }
+    std::string describe() const override {
+        return fmt::format("raster {} ({} x {} samples, {} x {} m spacing)", name_, g_.nx, g_.ny, g_.dx, g_.dy);
+    }
+
+private:
+    Grid g_;
+    std::string name_;
+};
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+bool parseDouble(std::string_view tok, double* out) {
+    const char* b = tok.data();
+    const char* e = b + tok.size();
+    if (b != e && *b == '+') ++b;
+    const auto res = std::from_chars(b, e, *out);
+    return res.ec == std::errc() && res.ptr == e;
+}
+
+// Whitespace-separated tokens of a line with their 1-based columns.
+std::vector<std::pair<std::string_view, int>> tokens(std::string_view line) {
+    std::vector<std::pair<std::string_view, int>> out;
+    size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        const size_t s = i;
+        while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+        if (i > s) out.emplace_back(line.substr(s, i - s), int(s) + 1);
+    }
+    return out;
+}
+
+// ESRI ASCII grid (Arc/Info ASCII GRID): header lines "key value", then nrows lines of ncols values,
+// north row first. Strict: every data line holds exactly ncols values.
+Grid readAsciiGrid(const std::filesystem::path& path, const RasterOptions& opt) {
+    std::ifstream in(path);
+    if (!in) throw InputError(SourceLoc{path.string()}, "cannot open file (missing or unreadable)");
+    const std::string file = path.string();
+    static const std::vector<std::string> kKeys = {"ncols", "nrows", "xllcorner", "xllcenter", "yllcorner",
+                                                   "yllcenter", "cellsize", "dx", "dy", "nodata_value"};
+    std::map<std::string, std::pair<double, int>> header;  // key -> (value, line)
+    std::string line;
+    int lineNo = 0;
+    Grid g;
+    long row = 0;
+    bool headerDone = false;
+    std::optional<double> nodata;
+    std::vector<double> raw;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const auto tok = tokens(line);
+        if (tok.empty()) continue;
+        const bool isNumber = [&] { double d; return parseDouble(tok[0].first, &d); }();
+        if (!headerDone && !isNumber) {
+            const std::string key = lower(std::string(tok[0].first));
+            if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
+                const std::string hint = closestMatch(key, kKeys);
+                throw InputError(SourceLoc{file, lineNo, tok[0].second},
+                                 fmt::format("unknown ASCII grid header key '{}'{}; allowed: {}", tok[0].first,
+                                             hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
+                                             joinList(kKeys)));
+            }
+            if (tok.size() != 2)
+                throw InputError(SourceLoc{file, lineNo, 1},
+                                 fmt::format("header line '{}' must be a key and one value", line));
+            double v;
+            if (!parseDouble(tok[1].first, &v) || !std::isfinite(v))
+                throw InputError(SourceLoc{file, lineNo, tok[1].second},
+                                 fmt::format("'{}' value '{}' is not a finite number", key, tok[1].first));
+            if (header.count(key))
+                throw InputError(SourceLoc{file, lineNo, 1},
+                                 fmt::format("'{}' given twice (first on line {})", key, header[key].second));
+            header[key] = {v, lineNo};
+            continue;
+        }
+        if (!headerDone) {
+            headerDone = true;
+            const auto need = [&](const char* key) {
+                if (!header.count(key))
+                    throw InputError(SourceLoc{file, lineNo},
+                                     fmt::format("ASCII grid header lacks '{}' before the first data line", key));
+                return header[key];
+            };
+            const auto count = [&](const char* key) {
+                const auto [v, ln] = need(key);
+                if (v != std::floor(v) || v < 2 || v > 1e6)
+                    throw InputError(SourceLoc{file, ln},
+                                     fmt::format("'{}' = {} must be a whole number in [2, 1000000]", key, v));
+                return static_cast<long>(v);
+            };
+            g.nx = count("ncols");
+            g.ny = count("nrows");
+            if (header.count("cellsize")) {
+                g.dx = g.dy = header["cellsize"].first;
+                if (header.count("dx") || header.count("dy"))
+                    throw InputError(SourceLoc{file, header["cellsize"].second}, "give either cellsize or dx/dy, not both");
+            } else if (header.count("dx") && header.count("dy")) {
+                g.dx = header["dx"].first;
+                g.dy = header["dy"].first;
+            } else {
+                throw InputError(SourceLoc{file, lineNo}, "ASCII grid header lacks 'cellsize' (or 'dx' and 'dy')");
+            }
+            if (!(g.dx > 0) || !(g.dy > 0))
+                throw InputError(SourceLoc{file, header.count("cellsize") ? header["cellsize"].second : header["dx"].second},
+                                 fmt::format("cell size {} x {} must be > 0", g.dx, g.dy));
+            const bool xc = header.count("xllcenter"), xk = header.count("xllcorner");
+            const bool yc = header.count("yllcenter"), yk = header.count("yllcorner");
+            if (xc == xk || yc == yk)
+                throw InputError(SourceLoc{file, lineNo},
+                                 "ASCII grid header needs exactly one of xllcorner/xllcenter and one of "
+                                 "yllcorner/yllcenter");
+            // Corner registration: the lower-left cell's centre is half a cell in from the corner.
+            const double xll = xc ? header["xllcenter"].first : header["xllcorner"].first + 0.5 * g.dx;
+            const double yll = yc ? header["yllcenter"].first : header["yllcorner"].first + 0.5 * g.dy;
+            g.xc0 = xll;
+            g.yTop = yll + double(g.ny - 1) * g.dy;
+            if (header.count("nodata_value")) nodata = header["nodata_value"].first;
+            raw.reserve(size_t(g.nx) * size_t(g.ny));
+        }
+        if (row >= g.ny)
+            throw InputError(SourceLoc{file, lineNo, tok[0].second},
+                             fmt::format("extra data after the {} rows the header declares", g.ny));
+        if (long(tok.size()) != g.nx)
+            throw InputError(SourceLoc{file, lineNo},
+                             fmt::format("row {} has {} values; ncols = {} (one grid row per line)", row + 1,
+                                         tok.size(), g.nx));
+        for (size_t c = 0; c < tok.size(); ++c) {
+            double v;
+            if (!parseDouble(tok[c].first, &v) || !std::isfinite(v))
+                throw InputError(SourceLoc{file, lineNo, tok[c].second},
+                                 fmt::format("'{}' (row {}, column {}) is not a finite number", tok[c].first, row + 1,
+                                             c + 1));
+            if (nodata && v == *nodata)
+                throw InputError(SourceLoc{file, lineNo, tok[c].second},
+                                 fmt::format("row {}, column {} is NODATA ({}); the terrain must be complete, fill "
+                                             "holes before loading", row + 1, c + 1, v));
+            raw.push_back(v);
+        }
+        ++row;
+    }
+    if (!headerDone) throw InputError(SourceLoc{file}, "no grid data: the file is empty or holds only a header");
+    if (row != g.ny)
+        throw InputError(SourceLoc{file, lineNo},
+                         fmt::format("the grid ends after {} rows; nrows = {}", row, g.ny));
+    g.z = std::move(raw);
+    return g;
+}
+
+// Native-typed pixel values of one channel, converted to double without OIIO's normalisation
+// of integer types (an int16 DEM holds metres, not fractions of 32767).
+std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::path& path, int channel) {
+    const OIIO::ImageSpec& spec = in.spec();
+    const size_t n = size_t(spec.width) * size_t(spec.height);
+    OIIO::TypeDesc t = spec.format;
+    std::vector<double> out(n);
+    const auto readAs = [&](auto tag, OIIO::TypeDesc td) {
+        using T = decltype(tag);
+        std::vector<T> buf(n);
+        if (!in.read_image(0, 0, channel, channel + 1, td, buf.data()))
+            throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in.geterror());
+        for (size_t k = 0; k < n; ++k) out[k] = static_cast<double>(buf[k]);
+    };
+    switch (t.basetype) {
+        case OIIO::TypeDesc::UINT8: readAs(uint8_t{}, OIIO::TypeDesc::UINT8); break;
+        case OIIO::TypeDesc::INT8: readAs(int8_t{}, OIIO::TypeDesc::INT8); break;
+        case OIIO::TypeDesc::UINT16: readAs(uint16_t{}, OIIO::TypeDesc::UINT16); break;
+        case OIIO::TypeDesc::INT16: readAs(int16_t{}, OIIO::TypeDesc::INT16); break;
+        case OIIO::TypeDesc::UINT32: readAs(uint32_t{}, OIIO::TypeDesc::UINT32); break;
+        case OIIO::TypeDesc::INT32: readAs(int32_t{}, OIIO::TypeDesc::INT32); break;
+        default: readAs(double{}, OIIO::TypeDesc::DOUBLE); break;  // half, float, double
+    }
+    return out;
+}
+
+Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
+    const std::string file = path.string();
+    const GeoTiffInfo geo = readGeoTiffInfo(path);  // also reports a missing file clearly
+    auto in = OIIO::ImageInput::open(file);
+    if (!in)
+        throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
+                                          "image format OpenImageIO reads): " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width < 2 || spec.height < 2 || spec.depth > 1)
+        throw InputError(SourceLoc{file}, fmt::format("raster is {} x {} x {}; need a 2D grid of at least 2 x 2",
+                                                      spec.width, spec.height, spec.depth));
+    if (opt.channel < 0 || opt.channel >= spec.nchannels)
+        throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} channel(s) (0..{})",
+                                                      opt.channel, spec.nchannels, spec.nchannels - 1));
+    Grid g;
+    g.nx = spec.width;
+    g.ny = spec.height;
+    std::vector<double> raw = readChannel(*in, path, opt.channel);
+    in->close();
+
+    if (opt.extent) {
+        // Caller's extent: the rectangle spanned by the sample centres.
+        g.dx = opt.extent->width() / double(g.nx - 1);
+        g.dy = opt.extent->height() / double(g.ny - 1);
+        g.xc0 = opt.extent->x0;
+        g.yTop = opt.extent->y1;
+    } else if (geo.hasGeoreferencing()) {
+        if (geo.modelType == 2)
+            throw InputError(SourceLoc{file}, "the GeoTIFF is in geographic coordinates (degrees, GTModelType 2); "
+                                              "reproject it to a projected system in metres (e.g. UTM) or give an "
+                                              "extent in the local frame");
+        if (geo.modelType == 3)
+            throw InputError(SourceLoc{file}, "the GeoTIFF is geocentric (GTModelType 3); a projected system in metres "
+                                              "is required");
+        // Raster (I, J) -> model (X, Y): X = a I + b J + d, Y = e I + f J + h (GeoTIFF 1.1, 7.3).
+        double a, b, d, e, f, h;
+        if (geo.transformation) {
+            const auto& m = *geo.transformation;
+            a = m[0]; b = m[1]; d = m[3]; e = m[4]; f = m[5]; h = m[7];
+        } else {
+            const auto& s = *geo.pixelScale;
+            const auto& tp = geo.tiepoints;  // first tie point anchors the grid
+            a = s[0]; b = 0; e = 0; f = -s[1];
+            d = tp[3] - tp[0] * s[0];
+            h = tp[4] + tp[1] * s[1];
+        }
+        if (b != 0 || e != 0)
+            throw InputError(SourceLoc{file}, "the GeoTIFF grid is rotated (ModelTransformation has shear terms); "
+                                              "only north-up rasters are supported");
+        if (!(a > 0) || !(f < 0))
+            throw InputError(SourceLoc{file}, fmt::format("GeoTIFF pixel size ({}, {}) must be positive in x and "
+                                                          "negative in y (north-up)", a, f));
+        const double c = geo.rasterType == 2 ? 0.0 : 0.5;  // PixelIsPoint vs PixelIsArea centres
+        g.dx = a;
+        g.dy = -f;
+        g.xc0 = a * c + d - opt.originX;
+        g.yTop = f * c + h - opt.originY;
+    } else {
+        throw InputError(SourceLoc{file}, "raster has no georeferencing (no GeoTIFF ModelPixelScale/ModelTiepoint or "
+                                          "ModelTransformation); give its extent in the local frame");
+    }
+
+    std::optional<double> nodata;
+    if (geo.gdalNodata) {
+        double v;
+        if (lower(*geo.gdalNodata) == "nan") nodata = std::numeric_limits<double>::quiet_NaN();
+        else if (parseDouble(*geo.gdalNodata, &v)) nodata = v;
+    }
+    for (long j = 0; j < g.ny; ++j)
+        for (long i = 0; i < g.nx; ++i) {
+            const double v = raw[size_t(j) * size_t(g.nx) + size_t(i)];
+            const bool isNodata = nodata && (std::isnan(*nodata) ? std::isnan(v) : v == *nodata);
+            if (isNodata || !std::isfinite(v))
+                throw InputError(SourceLoc{file},
+                                 fmt::format("pixel row {}, column {} (1-based, row 1 = north) is {} ({}); the "
+                                             "terrain must be complete, fill holes before loading", j + 1, i + 1,
+                                             isNodata ? "NODATA" : "not finite", v));
+        }
+    g.z = std::move(raw);
+    return g;
+}
+
+bool looksLikeAsciiGrid(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(SourceLoc{path.string()}, "cannot open file (missing or unreadable)");
+    std::string head(64, '\0');
+    in.read(head.data(), 64);
+    head.resize(static_cast<size_t>(in.gcount()));
+    size_t i = 0;
+    while (i < head.size() && std::isspace(static_cast<unsigned char>(head[i]))) ++i;
+    const std::string w = lower(head.substr(i, 5));
+    return w == "ncols" || w == "nrows";
+}
+
+}  // namespace
+
+std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const RasterOptions& opt) {
+    using detail::requireFinite;
+    requireFinite("raster", "origin_x_m", opt.originX);
+    requireFinite("raster", "origin_y_m", opt.originY);
+    detail::require(std::isfinite(opt.zScale) && opt.zScale != 0, "raster", "z_scale", opt.zScale,
+                    "a finite, non-zero number");
+    requireFinite("raster", "z_offset_m", opt.zOffset);
+    if (opt.extent) {
+        for (double v : {opt.extent->x0, opt.extent->y0, opt.extent->x1, opt.extent->y1})
+            requireFinite("raster", "extent", v);
+        if (!opt.extent->valid())
+            throw InputError(fmt::format("raster.extent = [{}, {}] x [{}, {}] m: must have x0 < x1 and y0 < y1",
+                                         opt.extent->x0, opt.extent->x1, opt.extent->y0, opt.extent->y1));
+    }
+    if (!std::filesystem::exists(path))
+        throw InputError(SourceLoc{path.string()}, "elevation raster not found");
+    if (!std::filesystem::is_regular_file(path))
+        throw InputError(SourceLoc{path.string()}, "elevation raster is not a regular file");
+    Grid g;
+    if (looksLikeAsciiGrid(path)) {
+        g = readAsciiGrid(path, opt);
+        if (opt.extent) {
+            // An explicit extent overrides the header's georeferencing (sample-centre rectangle).
+            g.dx = opt.extent->width() / double(g.nx - 1);
+            g.dy = opt.extent->height() / double(g.ny - 1);
+            g.xc0 = opt.extent->x0;
+            g.yTop = opt.extent->y1;
+        } else {
+            g.xc0 -= opt.originX;
+            g.yTop -= opt.originY;
+        }
+    } else {
+        g = readImage(path, opt);
+    }
+    for (double& z : g.z) z = opt.zScale * z + opt.zOffset;
+    return std::make_unique<RasterTerrain>(std::move(g), path.filename().string());
+}
+
+}  // namespace littoral::bathymetry
