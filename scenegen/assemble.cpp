@@ -1,0 +1,331 @@
+#include "scenegen/assemble.h"
+
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "bathymetry/geo_frame.h"
+#include "bathymetry/terrain.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "scenegen/assembly_sections.h"
+#include "scenegen/mesh_validity.h"
+#include "scenegen/objects.h"
+#include "scenegen/surface_section.h"
+#include "scenegen/water_volume.h"
+#include "surfaces/wave_surface.h"
+
+namespace littoral::scenegen {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const bathymetry::Extent& extent,
+                                                 const bathymetry::GeoFrame* frame) {
+    try {
+        switch (b.kind) {
+            case BathymetrySpec::Kind::PlanarSlope: return bathymetry::makePlanarSlope(extent, b.planar);
+            case BathymetrySpec::Kind::Dean: return bathymetry::makeDeanProfile(extent, b.dean);
+            case BathymetrySpec::Kind::BarTrough: return bathymetry::makeBarTrough(extent, b.barTrough);
+            case BathymetrySpec::Kind::Raster: return bathymetry::loadRaster(b.file, b.raster);
+            case BathymetrySpec::Kind::Soundings:
+                if (!frame) throw InputError(b.loc, "bathymetry from soundings needs scene.origin (latitude, longitude)");
+                return bathymetry::fromSoundings(b.file, *frame, b.soundings);
+        }
+    } catch (const InputError& e) {
+        // Keep a location that already names a data file; otherwise point at the section.
+        if (!e.where().file.empty()) throw;
+        throw InputError(b.loc, "bathymetry: " + e.message());
+    }
+    throw InternalError("unknown bathymetry kind");
+}
+
+ir::Material interfaceMaterial() {
+    ir::Material m;
+    m.name = "air-water-interface";
+    m.type = ir::Material::Type::Dielectric;  // smooth Fresnel interface between the water mesh's media
+    m.solver = ir::Material::Solver::Fresnel;  // Table 10.4: Fresnel solver for the air-water interface
+    return m;
+}
+
+// Vertical sides where the domain cuts the sea: an absorbing boundary (see docs/scene-assembly.md).
+ir::Material wallMaterial() {
+    ir::Material m;
+    m.name = "domain-wall";
+    m.type = ir::Material::Type::Black;
+    return m;
+}
+
+nlohmann::json meshSummary(const TriMesh& m) {
+    nlohmann::json j;
+    j["vertices"] = m.numVertices();
+    j["faces"] = m.numTriangles();
+    j["area_m2"] = m.area();
+    return j;
+}
+
+}  // namespace
+
+nlohmann::json StageSeconds::toJson() const {
+    return {{"parse", parse},           {"surface", surface},           {"terrain", terrain},
+            {"textures", textures},     {"objects", objects},           {"water_prism", waterPrism},
+            {"water_terrain", waterTerrain}, {"water_boolean", waterBoolean}, {"water_solids", waterSolids},
+            {"validity", validity},     {"write", write},               {"total", total()}};
+}
+
+AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) {
+    AssembledScene out;
+    ir::SceneIR& ir = out.ir;
+    applyCommonSections(spec, &ir);
+    const bathymetry::Extent domain{spec.scene.x0, spec.scene.y0, spec.scene.x1, spec.scene.y1};
+
+    // ---- parse the geometry sections ----
+    auto t = Clock::now();
+    if (!spec.bathymetry)
+        throw InputError(SourceLoc{spec.file.string()}, "the scene has no 'bathymetry' section; a coastal scene needs "
+                                                        "a seabed (e.g. bathymetry: {type: planar_slope, ...})");
+    const BathymetrySpec bathy = parseBathymetry(*spec.bathymetry);
+    const std::vector<ObjectSpec> objects = spec.objects ? parseObjects(*spec.objects) : std::vector<ObjectSpec>{};
+    std::optional<TextureClassesSpec> classesSpec;
+    if (spec.textureClasses) classesSpec = parseTextureClasses(*spec.textureClasses);
+    out.seconds.parse = since(t);
+
+    std::optional<bathymetry::GeoFrame> frame;
+    if (spec.scene.origin) {
+        const auto& o = *spec.scene.origin;
+        frame = bathy.utmFrame ? bathymetry::GeoFrame::utm(o.latitude, o.longitude, o.altitude)
+                               : bathymetry::GeoFrame::localCartesian(o.latitude, o.longitude, o.altitude);
+        ir.metadata["geo_frame"] = frame->describe();
+    }
+
+    std::set<std::string> known;
+    for (const auto& m : ir.materials) known.insert(m.name);
+
+    // ---- texture classes (terrain materials) ----
+    t = Clock::now();
+    std::vector<std::string> terrainMaterials;
+    std::function<uint16_t(double, double)> materialAt;
+    if (classesSpec) {
+        out.textures = buildTextureClasses(*classesSpec, domain);
+        for (const auto& m : out.textures->materials()) {
+            if (known.count(m.name))
+                throw InputError(classesSpec->loc, fmt::format("texture class '{}' has the name of a material already "
+                                                               "defined under 'materials'",
+                                                               m.name));
+            ir.materials.push_back(m);
+            known.insert(m.name);
+            terrainMaterials.push_back(m.name);
+        }
+        const TextureClasses* tc = &*out.textures;
+        materialAt = [tc](double x, double y) { return tc->slotAt(x, y); };
+        if (!bathy.material.empty())
+            throw InputError(bathy.loc, "bathymetry.material is not used when texture_classes assigns the ground "
+                                        "materials; remove it");
+    } else {
+        if (bathy.material.empty())
+            throw InputError(bathy.loc, "bathymetry: name the ground material with 'material' (one of 'materials') or "
+                                        "add a texture_classes section");
+        if (!known.count(bathy.material))
+            throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'",
+                                                    bathy.material));
+        terrainMaterials.push_back(bathy.material);
+    }
+    out.seconds.textures = since(t);
+
+    // ---- terrain ----
+    t = Clock::now();
+    const double margin = 3 * bathy.spacing + 1.0;
+    const bathymetry::Extent grown{domain.x0 - margin, domain.y0 - margin, domain.x1 + margin, domain.y1 + margin};
+    std::unique_ptr<bathymetry::Terrain> terrain = makeTerrain(bathy, grown, frame ? &*frame : nullptr);
+    const bathymetry::Extent tex = terrain->extent();
+    const bathymetry::Terrain* tp = terrain.get();
+    // Outside its extent a terrain is clamped to the nearest point of the extent (rasters do this
+    // themselves; a TIN would otherwise refuse the margin the booleans need around the domain).
+    auto elevation = [tp, tex](double x, double y) {
+        return tp->elevation(std::clamp(x, tex.x0, tex.x1), std::clamp(y, tex.y0, tex.y1));
+    };
+    ir.metadata["terrain"] = terrain->describe();
+    out.seconds.terrain = since(t);
+
+    // ---- objects ----
+    t = Clock::now();
+    std::vector<PlacedObject> placed;
+    for (const auto& o : objects) {
+        for (const auto& m : o.materials)
+            if (!known.count(m))
+                throw InputError(o.loc, fmt::format("object '{}': material '{}' is not defined under 'materials' or "
+                                                    "texture_classes",
+                                                    o.name, m));
+        placed.push_back(loadObject(o, frame ? &*frame : nullptr, spec.waterLevel));
+    }
+    out.seconds.objects = since(t);
+
+    // ---- water surface ----
+    t = Clock::now();
+    nlohmann::json validity;
+    validity["scene"] = spec.file.filename().string();
+    TriMesh land;
+    bool valid = true;
+    if (spec.hasWater) {
+        if (!spec.waterSurface)
+            throw InputError(SourceLoc{spec.file.string()}, "water: missing 'surface' (the air-water interface)");
+        surfaces::WaveParams wp = parseWaterSurface(*spec.waterSurface);
+        if (opt.surfaceTriangles) wp.triangles = *opt.surfaceTriangles;
+        const surfaces::WaveSurface ws = surfaces::generateWaveSurface(wp);
+        TriMesh surface = ws.mesh;
+        for (auto& p : surface.positions) p.z += spec.waterLevel;
+        ir.metadata["water.surface"] = ws.description;
+        ir.metadata["water.surface.rms_height_m"] = fmt::format("{:.6g}", ws.actual.rmsHeight);
+        out.seconds.surface = since(t);
+
+        WaterVolumeInput in;
+        in.domain = domain;
+        in.surface = std::move(surface);
+        in.elevation = elevation;
+        in.terrainSpacing = bathy.spacing;
+        in.terrainMaterials = terrainMaterials;
+        in.terrainMaterialAt = materialAt;
+        in.interfaceMaterial = interfaceMaterial().name;
+        in.wallMaterial = wallMaterial().name;
+        for (const auto& p : placed) in.solids.push_back(p.solid);
+        WaterVolumeResult wv = buildWaterVolume(in);
+        out.seconds.waterPrism = wv.secondsPrism;
+        out.seconds.waterTerrain = wv.secondsTerrain;
+        out.seconds.waterBoolean = wv.secondsBoolean;
+        out.seconds.waterSolids = wv.secondsSolids;
+        for (const auto& m : {interfaceMaterial(), wallMaterial()})
+            if (!known.count(m.name)) {
+                ir.materials.push_back(m);
+                known.insert(m.name);
+            }
+
+        t = Clock::now();
+        CheckOptions co;
+        co.testSelfIntersections = opt.checkSelfIntersections;
+        const ValidityReport wr = checkMesh(wv.water, co);
+        validity["water"] = wr.toJson();
+        validity["water"]["materials"] = wv.waterMaterials;
+        validity["water"]["faces_by_role"] = {{"interface", wv.interfaceFaces}, {"seabed", wv.seabedFaces},
+                                              {"wall", wv.wallFaces}, {"object", wv.objectFaces}};
+        validity["water"]["volume_before_objects_m3"] = wv.waterVolumeBeforeSolids;
+        validity["water"]["prism_volume_m3"] = wv.prismVolume;
+        valid = valid && wr.valid();
+        out.seconds.validity += since(t);
+
+        ir::Mesh wm;
+        wm.name = "water";
+        wm.file = "meshes/water.ply";
+        wm.materials = wv.waterMaterials;
+        wm.inside = "water";
+        wm.outside = "";
+        wm.closed = wr.valid();
+        wm.data = std::move(wv.water);
+        ir.meshes.push_back(std::move(wm));
+        for (size_t i = 0; i < placed.size(); ++i) {
+            validity["objects"][placed[i].solid.name]["displaced_water_m3"] = wv.displaced[i];
+        }
+        land = std::move(wv.land);
+    } else {
+        // No water: the whole terrain over the domain is land.
+        land = bathymetry::terrainMesh(*terrain, domain, bathy.spacing);
+        land.faceMaterial.assign(land.triangles.size(), 0);
+        if (materialAt)
+            for (size_t f = 0; f < land.triangles.size(); ++f) {
+                const auto& tri = land.triangles[f];
+                const Point3 c = (land.positions[tri[0]] + land.positions[tri[1]] + land.positions[tri[2]]) / 3.0;
+                land.faceMaterial[f] = materialAt(c.x, c.y);
+            }
+        out.seconds.surface = since(t);
+    }
+
+    // ---- land and objects into the IR ----
+    t = Clock::now();
+    if (!land.triangles.empty()) {
+        const ValidityReport lr = checkMesh(land, CheckOptions{false});
+        validity["land"] = meshSummary(land);
+        validity["land"]["manifold"] = lr.manifold;
+        validity["land"]["boundary_edges"] = lr.boundaryEdges.size();
+        validity["land"]["components"] = lr.components;
+        ir::Mesh lm;
+        lm.name = "land";
+        lm.file = "meshes/land.ply";
+        lm.materials = terrainMaterials;
+        lm.closed = false;
+        lm.data = std::move(land);
+        ir.meshes.push_back(std::move(lm));
+    }
+    for (auto& p : placed) {
+        auto& j = validity["objects"][p.solid.name];
+        const auto disp = j.contains("displaced_water_m3") ? j["displaced_water_m3"] : nlohmann::json();
+        j = p.validity.toJson();
+        if (!disp.is_null()) j["displaced_water_m3"] = disp;
+        valid = valid && p.validity.valid();
+        ir::Mesh om;
+        om.name = p.solid.name;
+        om.file = "meshes/object_" + p.solid.name + ".ply";
+        om.materials = p.solid.materials;
+        om.closed = true;
+        om.data = std::move(p.solid.mesh);
+        ir.meshes.push_back(std::move(om));
+    }
+    out.seconds.validity += since(t);
+    if (out.textures) {
+        auto cov = out.textures->coverage();
+        for (size_t k = 0; k < out.textures->classes.size(); ++k) {
+            const auto& s = out.textures->stats[k];
+            validity["texture_classes"][out.textures->classes[k].name] = {
+                {"coverage", cov[k]},         {"pixels", s.pixels},       {"mean_before", s.meanBefore},
+                {"std_before", s.stdBefore},  {"mean_after", s.meanAfter}, {"std_after", s.stdAfter},
+                {"clamped_to_zero", s.clampedToZero}};
+        }
+    }
+    validity["valid"] = valid;
+    validity["seconds"] = out.seconds.toJson();
+    out.validity = std::move(validity);
+    out.valid = valid;
+    ir.metadata["generator"] = "littoral build";
+    return out;
+}
+
+void writeAssembledScene(const AssembledScene& scene, const std::filesystem::path& dir) {
+    std::filesystem::create_directories(dir);
+    if (scene.textures) scene.textures->writeTextures(dir);
+    ir::writeIR(scene.ir, dir);
+    writeTextFileAtomic(dir / "validity.json", scene.validity.dump(2) + "\n");
+}
+
+AssembledScene buildScene(const std::filesystem::path& sceneYaml, const std::filesystem::path& outDir,
+                          const AssembleOptions& options) {
+    auto t = Clock::now();
+    const SceneSpec spec = loadSceneFile(sceneYaml);
+    const double parse = since(t);
+    AssembledScene s = assembleScene(spec, options);
+    s.seconds.parse += parse;
+    if (!s.valid) {
+        if (!outDir.empty()) {
+            std::filesystem::create_directories(outDir);
+            writeTextFileAtomic(outDir / "validity.json", s.validity.dump(2) + "\n");
+        }
+        std::string msg = "the assembled scene failed its validity checks";
+        if (s.validity.contains("water") && !s.validity["water"]["valid"].get<bool>())
+            for (const auto& r : s.validity["water"]["reasons"]) msg += "\n  water: " + r.get<std::string>();
+        msg += outDir.empty() ? "" : "\n  details: " + (outDir / "validity.json").string();
+        throw InputError(SourceLoc{sceneYaml.string()}, msg);
+    }
+    if (!outDir.empty()) {
+        t = Clock::now();
+        s.seconds.write = 0;
+        writeAssembledScene(s, outDir);
+        s.seconds.write = since(t);
+        // Record the write time too (validity.json is rewritten with the final figures).
+        s.validity["seconds"] = s.seconds.toJson();
+        writeTextFileAtomic(outDir / "validity.json", s.validity.dump(2) + "\n");
+    }
+    return s;
+}
+
+}  // namespace littoral::scenegen

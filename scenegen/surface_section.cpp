@@ -1,0 +1,116 @@
+#include "scenegen/surface_section.h"
+
+#include <climits>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/suggest.h"
+#include "core/units.h"
+
+namespace littoral::scenegen {
+
+namespace {
+using surfaces::WaveLimits;
+using surfaces::WaveModel;
+
+// Keys that only some models use; giving one to another model is a mistake worth reporting.
+struct ModelKey {
+    const char* key;
+    std::vector<WaveModel> models;
+};
+const std::vector<ModelKey>& modelKeys() {
+    static const std::vector<ModelKey> keys{
+        {"wind_speed", {WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily}},
+        {"seed", {WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily}},
+        {"fetch", {WaveModel::Jonswap, WaveModel::Elfouhaily}},
+        {"gamma", {WaveModel::Jonswap}},
+        {"amplitude", {WaveModel::Sinusoid}},
+        {"wavelength", {WaveModel::Sinusoid}},
+        {"phase", {WaveModel::Sinusoid}},
+        {"time", {WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily, WaveModel::Sinusoid}},
+        {"depth", {WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily, WaveModel::Sinusoid}},
+    };
+    return keys;
+}
+
+std::string modelList(const std::vector<WaveModel>& ms) {
+    std::vector<std::string> names;
+    for (WaveModel m : ms) names.push_back(surfaces::waveModelName(m));
+    return joinList(names);
+}
+
+// A 2-vector given as [x, y].
+std::pair<double, double> pairOf(const YamlNode& n, double lo, double hi, const char* unit) {
+    if (!n.isSequence() || n.size() != 2) n.fail("expected a list of two numbers [x, y]");
+    const auto v = n.asDoubleList(lo, hi, unit);
+    return {v[0], v[1]};
+}
+}  // namespace
+
+surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
+    n.expectMap();
+    n.expectKeys({"model", "wind_speed", "wind_direction_deg", "size", "centre", "spacing", "seed", "triangles",
+                  "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth"});
+    surfaces::WaveParams p;
+    p.sceneKeys = true;
+    p.where = n.loc();
+    p.model = *surfaces::parseWaveModel(n.getEnum("model", "beaufort", surfaces::waveModelNames()));
+    const std::string modelName = surfaces::waveModelName(p.model);
+    for (const ModelKey& mk : modelKeys())
+        if (auto k = n.optional(mk.key)) {
+            bool ok = false;
+            for (WaveModel m : mk.models) ok = ok || m == p.model;
+            if (!ok) k->fail(fmt::format("does not apply to model {}; it is used by: {}", modelName, modelList(mk.models)));
+        }
+
+    if (surfaces::isWindDriven(p.model)) {
+        const YamlNode w = n["wind_speed"];  // required: the model is driven by it
+        p.windSpeed = w.asDouble(0.0, WaveLimits::kMaxWind, "m/s");
+        if (p.windSpeed <= 0) w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s",
+                                                 p.windSpeed, modelName, WaveLimits::kMaxWind));
+    } else {
+        p.windSpeed = 0.0;
+    }
+    p.windDirection = deg2rad(n.getDouble("wind_direction_deg", 0.0, -360.0, 360.0, "degrees"));
+    if (auto s = n.optional("size")) {
+        if (s->isSequence()) {
+            const auto [sx, sy] = pairOf(*s, WaveLimits::kMinSize, WaveLimits::kMaxSize, "m");
+            p.sizeX = sx;
+            p.sizeY = sy;
+        } else {
+            p.sizeX = p.sizeY = s->asDouble(WaveLimits::kMinSize, WaveLimits::kMaxSize, "m");
+        }
+    }
+    if (auto c = n.optional("centre")) {
+        const auto [cx, cy] = pairOf(*c, -1.0e7, 1.0e7, "m");
+        p.centreX = cx;
+        p.centreY = cy;
+    }
+    p.spacing = n.getDouble("spacing", p.spacing, WaveLimits::kMinSpacing, WaveLimits::kMaxSize, "m");
+    p.seed = static_cast<uint64_t>(n.getInt("seed", static_cast<long long>(p.seed), 0, LLONG_MAX));
+    p.triangles = static_cast<size_t>(n.getInt("triangles", static_cast<long long>(p.triangles), 0, 2'000'000'000LL));
+    p.fetch = n.getDouble("fetch", p.fetch, 0.0, WaveLimits::kMaxFetch, "m");
+    p.gamma = n.getDouble("gamma", p.gamma, WaveLimits::kMinGamma, WaveLimits::kMaxGamma);
+    p.amplitude = n.getDouble("amplitude", p.amplitude, 0.0, WaveLimits::kMaxAmplitude, "m");
+    p.wavelength = n.getDouble("wavelength", p.wavelength, WaveLimits::kMinSpacing, WaveLimits::kMaxSize, "m");
+    p.phase = n.getDouble("phase", p.phase, -WaveLimits::kMaxSize, WaveLimits::kMaxSize, "m");
+    p.time = n.getDouble("time", p.time, 0.0, WaveLimits::kMaxTime, "s");
+    p.depth = n.getDouble("depth", p.depth, 0.0, WaveLimits::kMaxDepth, "m");
+
+    // Checks on the combination (memory, triangle target, resolution). Report them at the key
+    // they name when that key is in the file, else at the section.
+    try {
+        surfaces::validateWaveParams(p);
+    } catch (const InputError& e) {
+        const std::string& msg = e.message();
+        const std::string key = msg.substr(0, msg.find(':'));
+        const auto k = n.optional(key);
+        const std::string where = n.path().empty() ? "" : n.path() + ".";
+        throw InputError(k ? k->loc() : n.loc(), where + msg);
+    }
+    return p;
+}
+
+}  // namespace littoral::scenegen

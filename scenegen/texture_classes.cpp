@@ -1,0 +1,229 @@
+#include "scenegen/texture_classes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace littoral::scenegen {
+namespace {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+// A grey image as floats (channel 0, or the mean of R, G, B for colour images), values in the
+// file's nominal range mapped to [0, 1] for integer formats.
+std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& where, int* w, int* h) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    *w = spec.width;
+    *h = spec.height;
+    const int nc = spec.nchannels;
+    std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * nc);
+    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, rgb.data()))
+        throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), in->geterror()));
+    std::vector<float> grey(static_cast<size_t>(spec.width) * spec.height);
+    const int use = nc >= 3 ? 3 : 1;
+    for (size_t i = 0; i < grey.size(); ++i) {
+        float s = 0;
+        for (int c = 0; c < use; ++c) s += rgb[i * nc + c];
+        grey[i] = s / use;
+    }
+    return grey;
+}
+
+}  // namespace
+
+uint16_t ClassMap::at(double x, double y) const {
+    const double u = (x - extent.x0) / extent.width(), v = (extent.y1 - y) / extent.height();
+    const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
+    return value[static_cast<size_t>(j) * width + i];
+}
+
+Vec2 ClassMap::pixelCentre(int i, int j) const {
+    return {extent.x0 + (i + 0.5) * extent.width() / width, extent.y1 - (j + 0.5) * extent.height() / height};
+}
+
+ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Extent& extent) {
+    const SourceLoc where{path.string()};
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(where, "cannot read classification map: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    const auto base = spec.format.basetype;
+    if (base != OIIO::TypeDesc::UINT8 && base != OIIO::TypeDesc::UINT16)
+        throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
+                                            "this image is {}",
+                                            spec.format.c_str()));
+    ClassMap m;
+    m.width = spec.width;
+    m.height = spec.height;
+    m.extent = extent;
+    const size_t n = static_cast<size_t>(m.width) * m.height;
+    m.value.resize(n);
+    // Read channel 0 in the file's own integer type so the indices are not rescaled.
+    if (base == OIIO::TypeDesc::UINT8) {
+        std::vector<uint8_t> buf(n);
+        if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data()))
+            throw InputError(where, "cannot read classification map: " + in->geterror());
+        std::copy(buf.begin(), buf.end(), m.value.begin());
+    } else if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, m.value.data())) {
+        throw InputError(where, "cannot read classification map: " + in->geterror());
+    }
+    return m;
+}
+
+std::vector<float> remapMeanStd(const std::vector<float>& t, const std::vector<char>& mask, double mu, double sigma,
+                                RemapStats* st) {
+    RemapStats s;
+    double sum = 0, sum2 = 0;
+    for (size_t i = 0; i < t.size(); ++i)
+        if (mask[i]) {
+            ++s.pixels;
+            sum += t[i];
+        }
+    std::vector<float> out(t.size(), static_cast<float>(mu));
+    if (s.pixels == 0) {
+        if (st) *st = s;
+        return out;
+    }
+    const double m = sum / s.pixels;
+    for (size_t i = 0; i < t.size(); ++i)
+        if (mask[i]) sum2 += (t[i] - m) * (t[i] - m);
+    const double sd = std::sqrt(sum2 / s.pixels);
+    s.meanBefore = m;
+    s.stdBefore = sd;
+    if (sigma > 0 && sd == 0) throw InputError("texture is constant over its class; it cannot be given a standard deviation");
+    const double gain = sd > 0 ? sigma / sd : 0.0;
+    double a = 0, a2 = 0;
+    for (size_t i = 0; i < t.size(); ++i) {
+        if (!mask[i]) continue;
+        double v = mu + (t[i] - m) * gain;  // t' = mu + (t - m) sigma / s
+        if (v < 0) {
+            v = 0;
+            ++s.clampedToZero;
+        }
+        out[i] = static_cast<float>(v);
+        a += out[i];
+    }
+    s.meanAfter = a / s.pixels;
+    for (size_t i = 0; i < t.size(); ++i)
+        if (mask[i]) a2 += (out[i] - s.meanAfter) * (out[i] - s.meanAfter);
+    s.stdAfter = std::sqrt(a2 / s.pixels);
+    if (st) *st = s;
+    return out;
+}
+
+uint16_t TextureClasses::slotAt(double x, double y) const {
+    return static_cast<uint16_t>(classOfValue[map.at(x, y)]);
+}
+
+std::vector<ir::Material> TextureClasses::materials() const {
+    std::vector<ir::Material> out;
+    for (size_t k = 0; k < classes.size(); ++k) {
+        const auto& c = classes[k];
+        ir::Material m;
+        m.name = c.name;
+        m.solver = c.solver == "generic" ? ir::Material::Solver::Generic
+                 : c.solver == "surface-pm" ? ir::Material::Solver::SurfacePM : ir::Material::Solver::Classic;
+        if (textures[k].empty()) {
+            m.type = ir::Material::Type::Lambertian;
+            m.reflectance = c.reflectance.scaled(c.mean);
+        } else {
+            m.type = ir::Material::Type::Textured;
+            m.reflectance = c.reflectance;
+            m.texture = "textures/" + c.name + ".tif";
+            m.textureX0 = map.extent.x0;
+            m.textureY0 = map.extent.y0;
+            m.textureX1 = map.extent.x1;
+            m.textureY1 = map.extent.y1;
+        }
+        out.push_back(m);
+    }
+    return out;
+}
+
+void TextureClasses::writeTextures(const std::filesystem::path& irDir) const {
+    std::filesystem::create_directories(irDir / "textures");
+    for (size_t k = 0; k < classes.size(); ++k) {
+        if (textures[k].empty()) continue;
+        const auto target = irDir / "textures" / (classes[k].name + ".tif");
+        writeFileAtomic(target, [&](const std::filesystem::path& temp) {
+            // The temporary name has no image extension, so the format is named explicitly.
+            auto out = OIIO::ImageOutput::create("tiff");
+            if (!out) throw InputError(SourceLoc{target.string()}, "cannot create TIFF writer: " + OIIO::geterror());
+            OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::FLOAT);
+            spec.attribute("compression", "zip");
+            spec.attribute("DateTime", "");  // deterministic bytes
+            if (!out->open(temp.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, textures[k].data()) ||
+                !out->close())
+                throw InputError(SourceLoc{target.string()}, "cannot write texture: " + out->geterror());
+        });
+    }
+}
+
+std::vector<double> TextureClasses::coverage() const {
+    std::vector<double> c(classes.size(), 0.0);
+    for (uint16_t v : map.value) c[classOfValue[v]] += 1.0;
+    for (auto& x : c) x /= static_cast<double>(map.value.size());
+    return c;
+}
+
+TextureClasses buildTextureClasses(const TextureClassesSpec& spec, const bathymetry::Extent& domain) {
+    TextureClasses tc;
+    tc.classes = spec.classes;
+    tc.map = readClassMap(spec.map, spec.extent.value_or(domain));
+    // Every raster value must have a class (an unclassified pixel would render with no material).
+    int maxIndex = 0;
+    for (const auto& c : spec.classes) maxIndex = std::max(maxIndex, c.index);
+    uint16_t maxValue = 0;
+    for (uint16_t v : tc.map.value) maxValue = std::max(maxValue, v);
+    tc.classOfValue.assign(std::max<int>(maxIndex, maxValue) + 1, -1);
+    for (size_t k = 0; k < spec.classes.size(); ++k) tc.classOfValue[spec.classes[k].index] = static_cast<int>(k);
+    std::vector<std::string> known;
+    for (const auto& c : spec.classes) known.push_back(std::to_string(c.index));
+    for (int j = 0; j < tc.map.height; ++j)
+        for (int i = 0; i < tc.map.width; ++i) {
+            const uint16_t v = tc.map.value[static_cast<size_t>(j) * tc.map.width + i];
+            if (tc.classOfValue[v] < 0)
+                throw InputError(SourceLoc{spec.map.string()},
+                                 fmt::format("pixel (column {}, row {}) has class value {}, which texture_classes does "
+                                             "not define; defined: {}",
+                                             i, j, v, fmt::join(known, ", ")));
+        }
+
+    const size_t n = tc.map.value.size();
+    tc.textures.resize(spec.classes.size());
+    tc.stats.resize(spec.classes.size());
+    for (size_t k = 0; k < spec.classes.size(); ++k) {
+        const auto& c = spec.classes[k];
+        std::vector<char> mask(n);
+        for (size_t p = 0; p < n; ++p) mask[p] = tc.classOfValue[tc.map.value[p]] == static_cast<int>(k);
+        if (!c.texture) {
+            for (char m : mask) tc.stats[k].pixels += m ? 1 : 0;
+            tc.stats[k].meanBefore = tc.stats[k].meanAfter = c.mean;
+            continue;
+        }
+        int tw = 0, th = 0;
+        const std::vector<float> tex = readGrey(*c.texture, c.loc, &tw, &th);
+        // Tile the texture over the map grid, one texture pixel per map pixel.
+        std::vector<float> tiled(n);
+        for (int j = 0; j < tc.map.height; ++j)
+            for (int i = 0; i < tc.map.width; ++i)
+                tiled[static_cast<size_t>(j) * tc.map.width + i] = tex[static_cast<size_t>(j % th) * tw + (i % tw)];
+        try {
+            tc.textures[k] = remapMeanStd(tiled, mask, c.mean, c.stddev, &tc.stats[k]);
+        } catch (const InputError& e) {
+            throw InputError(c.loc, fmt::format("texture class '{}': {}", c.name, e.message()));
+        }
+    }
+    return tc;
+}
+
+}  // namespace littoral::scenegen

@@ -1,0 +1,127 @@
+// Classification maps and the per-class mean/variance remap of textures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include <OpenImageIO/imageio.h>
+
+#include "scenegen/texture_classes.h"
+
+using namespace littoral;
+using namespace littoral::scenegen;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_tmp" / "scenegen" / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+template <class T>
+void writeImage(const fs::path& p, int w, int h, int nc, const std::vector<T>& data, OIIO::TypeDesc type) {
+    auto out = OIIO::ImageOutput::create(p.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(w, h, nc, type);
+    ASSERT_TRUE(out->open(p.string(), spec));
+    ASSERT_TRUE(out->write_image(type, data.data()));
+    out->close();
+}
+
+}  // namespace
+
+TEST(TextureRemap, HitsTheTargetMeanAndStandardDeviationOverTheClassOnly) {
+    // t = 0, 1, 2, ..., 9 on the masked pixels (mean 4.5, population sd sqrt(8.25)); remapped to
+    // mean 0.8, sd 0.1 the values are 0.8 + (t - 4.5) 0.1 / sqrt(8.25), all positive, so the
+    // targets are met to rounding. Unmasked pixels (value 100) must not influence the statistics.
+    std::vector<float> t;
+    std::vector<char> mask;
+    for (int i = 0; i < 10; ++i) {
+        t.push_back(static_cast<float>(i));
+        mask.push_back(1);
+        t.push_back(100.0f);
+        mask.push_back(0);
+    }
+    RemapStats s;
+    const auto out = remapMeanStd(t, mask, 0.8, 0.1, &s);
+    EXPECT_EQ(s.pixels, 10u);
+    EXPECT_NEAR(s.meanBefore, 4.5, 1e-12);
+    EXPECT_NEAR(s.stdBefore, std::sqrt(8.25), 1e-12);
+    // float storage: relative rounding 6e-8 on values near 0.8.
+    EXPECT_NEAR(s.meanAfter, 0.8, 1e-6);
+    EXPECT_NEAR(s.stdAfter, 0.1, 1e-6);
+    EXPECT_NEAR(out[0], 0.8 - 4.5 * 0.1 / std::sqrt(8.25), 1e-6);
+    EXPECT_FLOAT_EQ(out[1], 0.8f);  // outside the class: the target mean
+    EXPECT_EQ(s.clampedToZero, 0u);
+    // A large sd forces negatives, which are clamped and counted.
+    RemapStats s2;
+    remapMeanStd(t, mask, 0.1, 1.0, &s2);
+    EXPECT_GT(s2.clampedToZero, 0u);
+    // A constant texture cannot be given a spread.
+    EXPECT_THROW(remapMeanStd(std::vector<float>(4, 1.0f), std::vector<char>(4, 1), 1.0, 0.1, nullptr), InputError);
+}
+
+TEST(TextureClasses, MapLookupRemapAndUnknownClass) {
+    const fs::path dir = tempDir("texture_classes");
+    // 4 x 2 map: west half class 3, east half class 7 (row 0 = north).
+    const std::vector<uint8_t> map = {3, 3, 7, 7, 3, 3, 7, 7};
+    writeImage(dir / "classes.png", 4, 2, 1, map, OIIO::TypeDesc::UINT8);
+    // Texture 2 x 1 grey: values 0 and 1 (8-bit 0 and 255).
+    writeImage(dir / "tex.png", 2, 1, 1, std::vector<uint8_t>{0, 255}, OIIO::TypeDesc::UINT8);
+    TextureClassesSpec spec;
+    spec.map = dir / "classes.png";
+    spec.extent = bathymetry::Extent{0, 0, 40, 10};
+    TextureClassSpec sand;
+    sand.index = 3;
+    sand.name = "sand";
+    sand.reflectance = Spectrum::constant(0.3);
+    sand.texture = dir / "tex.png";
+    sand.mean = 1.0;
+    sand.stddev = 0.2;
+    TextureClassSpec grass;
+    grass.index = 7;
+    grass.name = "grass";
+    grass.reflectance = Spectrum::constant(0.1);
+    spec.classes = {sand, grass};
+    const TextureClasses tc = buildTextureClasses(spec, {0, 0, 1, 1});
+    // Pixel columns are 10 m wide: x = 5 is column 0 (sand), x = 35 column 3 (grass).
+    EXPECT_EQ(tc.slotAt(5, 5), 0);
+    EXPECT_EQ(tc.slotAt(35, 5), 1);
+    EXPECT_EQ(tc.slotAt(-100, 5), 0);  // clamped to the west edge
+    // Sand pixels tile the texture 0, 1 / 0, 1: mean 0.5, sd 0.5 -> remapped to 0.8 and 1.2.
+    EXPECT_NEAR(tc.textures[0][0], 0.8, 1e-6);
+    EXPECT_NEAR(tc.textures[0][1], 1.2, 1e-6);
+    EXPECT_NEAR(tc.stats[0].stdAfter, 0.2, 1e-6);
+    EXPECT_TRUE(tc.textures[1].empty());
+    const auto mats = tc.materials();
+    EXPECT_EQ(mats[0].type, ir::Material::Type::Textured);
+    EXPECT_EQ(mats[0].texture, "textures/sand.tif");
+    EXPECT_EQ(mats[0].textureX1, 40.0);
+    EXPECT_EQ(mats[1].type, ir::Material::Type::Lambertian);
+    EXPECT_NEAR(tc.coverage()[0], 0.5, 1e-15);
+    tc.writeTextures(dir / "ir");
+    auto in = OIIO::ImageInput::open((dir / "ir" / "textures" / "sand.tif").string());
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().width, 4);
+    EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT);
+
+    // A map value without a class names the pixel and the defined classes.
+    spec.classes.pop_back();
+    try {
+        buildTextureClasses(spec, {0, 0, 1, 1});
+        FAIL() << "unclassified pixel accepted";
+    } catch (const InputError& e) {
+        const std::string w = e.what();
+        EXPECT_NE(w.find("pixel (column 2, row 0) has class value 7"), std::string::npos) << w;
+        EXPECT_NE(w.find("defined: 3"), std::string::npos) << w;
+    }
+}
+
+TEST(TextureClasses, FloatMapIsRefused) {
+    const fs::path dir = tempDir("texture_classes_float");
+    writeImage(dir / "classes.tif", 2, 2, 1, std::vector<float>{0, 1, 2, 3}, OIIO::TypeDesc::FLOAT);
+    EXPECT_THROW(readClassMap(dir / "classes.tif", {0, 0, 1, 1}), InputError);
+}
