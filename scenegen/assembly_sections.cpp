@@ -1,4 +1,5 @@
 #include "scenegen/assembly_sections.h"
+#include "scenegen/scene_file.h"
 
 #include <set>
 
@@ -47,18 +48,6 @@ const std::vector<std::string> kBarKeys = {"bar_crest_m", "bar_height_m", "bar_w
                                            "crescent_wavelength_m"};
 
 }  // namespace
-
-Spectrum parseSpectrumValue(const YamlNode& n, double min, double max, std::string_view unit) {
-    if (n.isScalar()) return Spectrum::constant(n.asDouble(min, max, unit));
-    n.expectKeys({"wavelengths_um", "values"});
-    const auto wl = n["wavelengths_um"].asDoubleList(0.2, 20.0, "um");
-    const auto val = n["values"].asDoubleList(min, max, unit);
-    try {
-        return Spectrum::tabulated(wl, val, n.path());
-    } catch (const InputError& e) {
-        n.fail(e.message());
-    }
-}
 
 BathymetrySpec parseBathymetry(const YamlNode& n) {
     BathymetrySpec b;
@@ -184,7 +173,7 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
             c["name"].fail("a class name must be non-empty and contain no path separators (it names a texture file)");
         if (!names.insert(s.name).second) c["name"].fail(fmt::format("duplicate class name '{}'", s.name));
-        s.reflectance = parseSpectrumValue(c["reflectance"], 0, 1, "(reflectance)");
+        s.reflectance = parseSpectrum(c["reflectance"], 0, 1, "(reflectance)");
         if (auto tx = c.optional("texture")) s.texture = tx->asExistingPath();
         s.mean = c.getDouble("mean", 1.0, 0, 100, "");
         s.stddev = c.getDouble("stddev", 0.0, 0, 100, "");

@@ -14,7 +14,5 @@ BathymetrySpec parseBathymetry(const YamlNode& node);
 std::vector<ObjectSpec> parseObjects(const YamlNode& node);
 TextureClassesSpec parseTextureClasses(const YamlNode& node);
 
-// A spectrum value: a number (constant) or {wavelengths_um: [...], values: [...]}.
-Spectrum parseSpectrumValue(const YamlNode& node, double min, double max, std::string_view unit);
 
 }  // namespace littoral::scenegen

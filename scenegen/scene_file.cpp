@@ -15,8 +15,6 @@ namespace littoral::scenegen {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 // A spectrum in a scene file: a number (constant), a table
 // {wavelengths_um: [...], values: [...]}, or {file: name.csv} with "wavelength_um,value" rows.
 Spectrum parseSpectrum(const YamlNode& n, double min, double max, std::string_view unit) {
@@ -59,6 +57,8 @@ Spectrum parseSpectrum(const YamlNode& n, double min, double max, std::string_vi
         n.fail(e.message());
     }
 }
+
+namespace {
 
 Vec3 parseVec3(const YamlNode& n) {
     const auto v = n.asDoubleList();

@@ -105,6 +105,11 @@ struct SceneSpec {
     RenderSection render;
 };
 
+// A spectral value in a scene file: a number (constant), {wavelengths_um: [...], values: [...]}
+// (linear between samples), or {file: name.csv} with "wavelength_um, value" rows. Values are
+// range-checked against [min, max] (`unit` names them in messages).
+Spectrum parseSpectrum(const YamlNode& node, double min, double max, std::string_view unit);
+
 // Parses and validates a scene file. Throws InputError (file:line:column) on any mistake.
 SceneSpec loadSceneFile(const std::filesystem::path& file);
 SceneSpec parseScene(const YamlNode& root, const std::filesystem::path& file);

@@ -1,0 +1,148 @@
+// `littoral waves`: generate a wind-roughened (or sinusoidal, or flat) sea surface, write the
+// facetized mesh (PLY or OBJ) and its predicted and measured statistics (stats.json).
+// See docs/waves.md.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/mesh.h"
+#include "core/progress.h"
+#include "core/suggest.h"
+#include "core/units.h"
+#include "pipelines/command_registry.h"
+#include "surfaces/facetize.h"
+#include "surfaces/wave_report.h"
+#include "surfaces/wave_surface.h"
+
+namespace {
+
+using littoral::InputError;
+namespace surf = littoral::surfaces;
+
+struct WavesOptions {
+    std::optional<double> wind;
+    double directionDeg = 0.0;
+    std::string model = "beaufort";
+    double size = 300.0;
+    std::optional<double> sizeY;
+    double spacing = 0.25;
+    uint64_t seed = 500;
+    long long triangles = 30000;
+    std::string out;
+    std::string stats;
+    double fetch = 0.0, gamma = 3.3, amplitude = 0.5, wavelength = 2.0, phase = 0.0, time = 0.0, depth = 0.0;
+    double maxMemoryGiB = surf::WaveLimits::kDefaultMaxMemory / 1073741824.0;
+};
+
+void checkOutputFolder(const std::string& option, const std::filesystem::path& p) {
+    const auto dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
+    if (!std::filesystem::is_directory(dir))
+        throw InputError(fmt::format("{}: the folder '{}' does not exist", option, dir.string()));
+}
+
+std::string lowerExtension(const std::filesystem::path& p) {
+    std::string e = p.extension().string();
+    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+}
+
+surf::WaveParams toParams(const WavesOptions& o) {
+    surf::WaveParams p;
+    const auto model = surf::parseWaveModel(o.model);
+    if (!model) {
+        const std::string close = littoral::closestMatch(o.model, surf::waveModelNames());
+        throw InputError(fmt::format("--model: unknown model '{}'; allowed: {}{}", o.model,
+                                     littoral::joinList(surf::waveModelNames()),
+                                     close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
+    }
+    p.model = *model;
+    if (surf::isWindDriven(p.model) && !o.wind)
+        throw InputError(fmt::format("--wind: required for model {} (wind speed in m/s, > 0 and <= {})", o.model,
+                                     surf::WaveLimits::kMaxWind));
+    p.windSpeed = o.wind.value_or(0.0);
+    p.windDirection = littoral::deg2rad(o.directionDeg);
+    p.sizeX = o.size;
+    p.sizeY = o.sizeY.value_or(o.size);
+    p.spacing = o.spacing;
+    p.seed = o.seed;
+    if (o.triangles < 0)
+        throw InputError(fmt::format("--triangles: {} is negative; give a target >= {} or 0 for the full grid",
+                                     o.triangles, surf::kMinTriangles));
+    p.triangles = static_cast<size_t>(o.triangles);
+    p.fetch = o.fetch;
+    p.gamma = o.gamma;
+    p.amplitude = o.amplitude;
+    p.wavelength = o.wavelength;
+    p.phase = o.phase;
+    p.time = o.time;
+    p.depth = o.depth;
+    if (!(o.maxMemoryGiB > 0)) throw InputError("--max-memory: must be > 0 (GiB)");
+    p.maxMemoryBytes = o.maxMemoryGiB * 1073741824.0;
+    return p;
+}
+
+void runWaves(const WavesOptions& o) {
+    if (littoral::globalOptions().quiet) littoral::Progress::setEnabled(false);
+    const surf::WaveParams params = toParams(o);
+    // Check the outputs before the (possibly long) generation, so a mistake costs nothing.
+    if (!o.out.empty()) {
+        const std::string ext = lowerExtension(o.out);
+        if (ext != ".ply" && ext != ".obj")
+            throw InputError(fmt::format("--out: '{}' has an unsupported extension; allowed: .ply, .obj", o.out));
+        checkOutputFolder("--out", o.out);
+    }
+    if (!o.stats.empty()) checkOutputFolder("--stats", o.stats);
+    surf::validateWaveParams(params);
+
+    const surf::WaveSurface s = surf::generateWaveSurface(params);
+    if (!o.out.empty()) {
+        if (lowerExtension(o.out) == ".obj")
+            surf::writeObj(o.out, s.mesh, s.vertexNormals);
+        else
+            littoral::writePly(o.out, s.mesh);
+    }
+    if (!o.stats.empty()) littoral::writeTextFileAtomic(o.stats, surf::waveStatsJson(s).dump(2) + "\n");
+    std::fputs(surf::waveSummary(s).c_str(), stdout);
+}
+
+littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
+    auto* cmd = app.add_subcommand("waves", "Generate a wind-roughened sea surface mesh and its statistics");
+    auto o = std::make_shared<WavesOptions>();
+    cmd->add_option("--wind", o->wind, "Wind speed, m/s, at the model's reference height (beaufort 12.5 m, "
+                                       "pierson-moskowitz 19.5 m, jonswap/elfouhaily 10 m)");
+    cmd->add_option("--direction", o->directionDeg,
+                    "Direction the wind blows toward (sinusoid: the wave direction), degrees counter-clockwise from +x")
+        ->capture_default_str();
+    cmd->add_option("--model", o->model, "beaufort | pierson-moskowitz | jonswap | elfouhaily | sinusoid | flat")
+        ->capture_default_str();
+    cmd->add_option("--size", o->size, "Side of the square surface, m (centred on the origin)")->capture_default_str();
+    cmd->add_option("--size-y", o->sizeY, "Extent along y, m, if different from --size");
+    cmd->add_option("--spacing", o->spacing, "Grid spacing, m")->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+    cmd->add_option("--triangles", o->triangles, "Target triangle count after decimation (0 = full grid)")
+        ->capture_default_str();
+    cmd->add_option("--out", o->out, "Mesh output (.ply or .obj)");
+    cmd->add_option("--stats", o->stats, "Statistics output (JSON)");
+    cmd->add_option("--fetch", o->fetch, "Fetch, m, for jonswap and elfouhaily (0 = fully developed)")->capture_default_str();
+    cmd->add_option("--gamma", o->gamma, "JONSWAP peak enhancement factor (1 to 10)")->capture_default_str();
+    cmd->add_option("--amplitude", o->amplitude, "Sinusoid amplitude, m")->capture_default_str();
+    cmd->add_option("--wavelength", o->wavelength, "Sinusoid wavelength, m")->capture_default_str();
+    cmd->add_option("--phase", o->phase, "Sinusoid: position of the first trough along the direction, m")
+        ->capture_default_str();
+    cmd->add_option("--time", o->time, "Time, s: advances each wave component by its dispersion relation")
+        ->capture_default_str();
+    cmd->add_option("--depth", o->depth, "Water depth for the dispersion relation, m (0 = deep water)")
+        ->capture_default_str();
+    cmd->add_option("--max-memory", o->maxMemoryGiB, "Refuse grids estimated to need more memory than this, GiB")
+        ->capture_default_str();
+    cmd->callback([o] { runWaves(*o); });
+}};
+
+}  // namespace

@@ -1,0 +1,309 @@
+#include "surfaces/wave_surface.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "core/log.h"
+#include "core/progress.h"
+#include "core/units.h"
+#include "surfaces/facetize.h"
+#include "surfaces/fft2d.h"
+#include "surfaces/synthesis.h"
+#include "surfaces/wave_spectra.h"
+
+namespace littoral::surfaces {
+
+namespace {
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+enum class Key { Model, Wind, Direction, Size, SizeY, Spacing, Seed, Triangles, Fetch, Gamma, Amplitude,
+                 Wavelength, Phase, Time, Depth, MaxMemory };
+
+std::string keyName(const WaveParams& p, Key k) {
+    struct Names { const char* cli; const char* scene; };
+    static const Names names[] = {
+        {"--model", "model"}, {"--wind", "wind_speed"}, {"--direction", "wind_direction_deg"},
+        {"--size", "size"}, {"--size-y", "size_y"}, {"--spacing", "spacing"}, {"--seed", "seed"},
+        {"--triangles", "triangles"}, {"--fetch", "fetch"}, {"--gamma", "gamma"},
+        {"--amplitude", "amplitude"}, {"--wavelength", "wavelength"}, {"--phase", "phase"},
+        {"--time", "time"}, {"--depth", "depth"}, {"--max-memory", "max_memory_gib"}};
+    const Names& n = names[static_cast<int>(k)];
+    return p.sceneKeys ? n.scene : n.cli;
+}
+
+[[noreturn]] void fail(const WaveParams& p, Key k, const std::string& msg) {
+    throw InputError(p.where, fmt::format("{}: {}", keyName(p, k), msg));
+}
+
+void checkRange(const WaveParams& p, Key k, double v, double lo, double hi, const char* unit) {
+    if (!std::isfinite(v) || v < lo || v > hi)
+        fail(p, k, fmt::format("{} is out of range; allowed {} to {}{}", v, lo, hi, unit));
+}
+
+double seconds(std::chrono::steady_clock::time_point a) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+}
+
+SpectrumParams spectrumParamsFor(const WaveParams& p) {
+    SpectrumParams s;
+    s.model = p.model == WaveModel::PiersonMoskowitz ? SpectrumModel::PiersonMoskowitz
+            : p.model == WaveModel::Jonswap          ? SpectrumModel::Jonswap
+                                                     : SpectrumModel::Elfouhaily;
+    s.windSpeed = p.windSpeed;
+    s.fetch = p.fetch;
+    s.gamma = p.gamma;
+    return s;
+}
+
+GridSpec gridSpecFor(const WaveParams& p) {
+    const GridSize n = gridSizeFor(p);
+    GridSpec g;
+    g.nx = n.nx;
+    g.ny = n.ny;
+    g.sizeX = p.sizeX;
+    g.sizeY = p.sizeY;
+    g.x0 = p.centreX - 0.5 * p.sizeX;
+    g.y0 = p.centreY - 0.5 * p.sizeY;
+    return g;
+}
+}  // namespace
+
+const std::vector<std::string>& waveModelNames() {
+    static const std::vector<std::string> names{"beaufort", "pierson-moskowitz", "jonswap", "elfouhaily", "sinusoid", "flat"};
+    return names;
+}
+
+std::string waveModelName(WaveModel m) { return waveModelNames()[static_cast<int>(m)]; }
+
+std::optional<WaveModel> parseWaveModel(const std::string& name) {
+    const auto& n = waveModelNames();
+    for (size_t i = 0; i < n.size(); ++i)
+        if (n[i] == name) return static_cast<WaveModel>(i);
+    return std::nullopt;
+}
+
+bool isWindDriven(WaveModel m) { return m != WaveModel::Sinusoid && m != WaveModel::Flat; }
+bool isRandom(WaveModel m) { return isWindDriven(m); }
+
+GridSize gridSizeFor(const WaveParams& p) {
+    // The largest spacing <= the requested one that divides the size exactly, so the grid's
+    // edges fall on the rectangle's edges. The 1e-9 guards against 300 / 0.25 = 1200.0000001.
+    const double fx = std::ceil(p.sizeX / p.spacing - 1e-9), fy = std::ceil(p.sizeY / p.spacing - 1e-9);
+    const double cap = 1.0e8;  // keeps the conversion defined; the memory check refuses far less
+    return {static_cast<int>(std::min(fx, cap)), static_cast<int>(std::min(fy, cap))};
+}
+
+double estimateBytes(const WaveParams& p) {
+    // Calibrated against peak resident memory of `littoral waves` (1201^2 vertices: 200 MB
+    // decimated, 293 MB full grid; 2401^2 decimated: 400 MB), with a 20% margin.
+    const GridSize n = gridSizeFor(p);
+    const double V = (n.nx + 1.0) * (n.ny + 1.0);                          // grid vertices
+    const double fft = 8.0 * n.nx * n.ny + 16.0 * (n.nx / 2 + 1.0) * n.ny;  // one r2c/c2r transform
+    const double field = 8.0 * V;
+    const bool decimate = p.triangles != 0 && p.triangles < 2.0 * n.nx * n.ny;
+    // Final mesh: positions (24 B) and normals (24 B) per vertex, 12 B per triangle (~2 per vertex).
+    const double meshVertices = decimate ? 0.5 * static_cast<double>(p.triangles) : V;
+    const double mesh = 72.0 * meshVertices;
+    // Decimation works on the presampled lattice (at most about 4 kPresampleFactor x target/2 vertices).
+    const double lattice = decimate ? std::min(V, 4.0 * kPresampleFactor * 0.5 * static_cast<double>(p.triangles)) : 0.0;
+    const double decimation = static_cast<double>(kFacetizeBytesPerVertex) * lattice;
+    const double stats = 2.0 * fft + 8.0 * V + 9.0 * V;  // autocorrelation, mesh raster, coverage flags
+    const double base = 64.0 * 1024 * 1024;               // program, libraries, FFTW plans
+    return 1.2 * (base + field + mesh + std::max({fft, decimation, stats}));
+}
+
+void validateWaveParams(const WaveParams& p) {
+    const bool wind = isWindDriven(p.model);
+    if (wind) {
+        if (!std::isfinite(p.windSpeed) || p.windSpeed <= 0 || p.windSpeed > WaveLimits::kMaxWind)
+            fail(p, Key::Wind, fmt::format("{} m/s is not allowed for model {}; allowed: > 0 and <= {} m/s",
+                                           p.windSpeed, waveModelName(p.model), WaveLimits::kMaxWind));
+    } else {
+        checkRange(p, Key::Wind, p.windSpeed, 0.0, WaveLimits::kMaxWind, " m/s");
+    }
+    if (!std::isfinite(p.windDirection)) fail(p, Key::Direction, "must be a finite angle in degrees");
+    checkRange(p, Key::Size, p.sizeX, WaveLimits::kMinSize, WaveLimits::kMaxSize, " m");
+    checkRange(p, Key::SizeY, p.sizeY, WaveLimits::kMinSize, WaveLimits::kMaxSize, " m");
+    if (!std::isfinite(p.centreX) || !std::isfinite(p.centreY)) fail(p, Key::Size, "the centre must be finite");
+    if (!std::isfinite(p.spacing) || p.spacing <= 0)
+        fail(p, Key::Spacing, fmt::format("{} m is not allowed; the grid spacing must be > 0 (at least {} m)",
+                                          p.spacing, WaveLimits::kMinSpacing));
+    if (p.spacing < WaveLimits::kMinSpacing || p.spacing > 0.5 * std::min(p.sizeX, p.sizeY))
+        fail(p, Key::Spacing, fmt::format("{} m is out of range; allowed {} m to half the size ({} m)", p.spacing,
+                                          WaveLimits::kMinSpacing, 0.5 * std::min(p.sizeX, p.sizeY)));
+    checkRange(p, Key::Fetch, p.fetch, 0.0, WaveLimits::kMaxFetch, " m (0 = fully developed)");
+    checkRange(p, Key::Gamma, p.gamma, WaveLimits::kMinGamma, WaveLimits::kMaxGamma, "");
+    checkRange(p, Key::Amplitude, p.amplitude, 0.0, WaveLimits::kMaxAmplitude, " m");
+    if (!std::isfinite(p.phase)) fail(p, Key::Phase, "must be finite (metres along the wave direction)");
+    checkRange(p, Key::Time, p.time, 0.0, WaveLimits::kMaxTime, " s");
+    checkRange(p, Key::Depth, p.depth, 0.0, WaveLimits::kMaxDepth, " m (0 = deep water)");
+    if (p.time != 0 && (p.model == WaveModel::Beaufort || p.model == WaveModel::Flat))
+        fail(p, Key::Time, fmt::format("model {} is static; time applies to pierson-moskowitz, jonswap, "
+                                       "elfouhaily and sinusoid", waveModelName(p.model)));
+    if (!(p.maxMemoryBytes > 0)) fail(p, Key::MaxMemory, "must be > 0");
+
+    // Memory, before anything is allocated.
+    const GridSize n = gridSizeFor(p);
+    const double bytes = estimateBytes(p);
+    if (bytes > p.maxMemoryBytes)
+        fail(p, Key::Spacing, fmt::format("a {} x {} grid ({:.1f} M vertices) needs about {:.1f} GiB, above the "
+                                          "{:.1f} GiB limit; increase the spacing, reduce the size, or raise {}",
+                                          n.nx, n.ny, (n.nx + 1.0) * (n.ny + 1.0) / 1e6, bytes / 1073741824.0,
+                                          p.maxMemoryBytes / 1073741824.0, keyName(p, Key::MaxMemory)));
+    const double gridTris = 2.0 * n.nx * n.ny;
+    if (p.triangles != 0 && (p.triangles < kMinTriangles || static_cast<double>(p.triangles) > gridTris))
+        fail(p, Key::Triangles, fmt::format("{} is not possible: the {} x {} grid has {:.0f} triangles; allowed "
+                                            "{} to {:.0f}, or 0 to keep the full grid", p.triangles, n.nx, n.ny,
+                                            gridTris, kMinTriangles, gridTris));
+
+    // Resolution checks per model.
+    const double dmax = std::max(p.sizeX / n.nx, p.sizeY / n.ny);
+    if (p.model == WaveModel::Beaufort) {
+        const double L = beaufortPrediction(p.windSpeed).correlationLength;
+        // Forward-difference slopes lose (1 - exp(-d^2/L^2)) L^2/d^2 of the slope variance: 12% at d = L/2.
+        if (dmax > 0.5 * L)
+            fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
+                                              "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
+        if (std::min(p.sizeX, p.sizeY) < 5 * L)
+            log::warn("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
+                      "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
+    } else if (wind) {
+        const WaveSpectrum s(spectrumParamsFor(p));
+        const double lp = 2 * kPi / s.peakWavenumber();
+        if (dmax > 0.5 * lp)
+            fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
+                                              "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
+        if (std::min(p.sizeX, p.sizeY) < lp)
+            log::warn("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
+                      "not represented", std::min(p.sizeX, p.sizeY), lp);
+    } else if (p.model == WaveModel::Sinusoid) {
+        if (!std::isfinite(p.wavelength) || p.wavelength < 2 * dmax || p.wavelength > WaveLimits::kMaxSize)
+            fail(p, Key::Wavelength, fmt::format("{} m is out of range; allowed 2 x spacing ({} m) to {} m",
+                                                 p.wavelength, 2 * dmax, WaveLimits::kMaxSize));
+    }
+}
+
+WaveSurface generateWaveSurface(const WaveParams& p) {
+    validateWaveParams(p);
+    WaveSurface out;
+    out.params = p;
+    const GridSpec g = gridSpecFor(p);
+    out.spacingX = g.dx();
+    out.spacingY = g.dy();
+    const bool wind = isWindDriven(p.model);
+    double statsDirection = p.windDirection;
+    PredictedStats& pr = out.predicted;
+    pr.mssUpwind = pr.mssCrosswind = kNaN;
+    pr.peakWavelength = kNaN;
+    if (wind) {
+        out.beaufort = beaufortForce(p.windSpeed);
+        const CoxMunkMss cm = coxMunkMss(p.windSpeed);
+        pr.coxMunkUpwind = cm.upwind;
+        pr.coxMunkCrosswind = cm.crosswind;
+        pr.coxMunkTotal = cm.total;
+    } else {
+        pr.coxMunkUpwind = pr.coxMunkCrosswind = pr.coxMunkTotal = kNaN;
+    }
+    Progress progress("waves", 3, "stages");
+    auto t0 = std::chrono::steady_clock::now();
+    std::optional<ModePower> power;
+    switch (p.model) {
+    case WaveModel::Beaufort: {
+        const BeaufortPrediction b = beaufortPrediction(p.windSpeed);
+        pr.rmsHeight = b.rmsHeight;
+        pr.rmsSlope = b.rmsSlope;
+        pr.correlationLength = b.correlationLength;
+        out.field = synthesizeGaussian(g, b.rmsHeight, b.correlationLength, p.seed);
+        power = gaussianModePower(g, b.rmsHeight, b.correlationLength);
+        out.description = fmt::format("beaufort/RMS Gaussian field, U12.5 = {} m/s: h = {:.4g} m, s = {:.4g}, L = {:.4g} m",
+                                      p.windSpeed, b.rmsHeight, b.rmsSlope, b.correlationLength);
+        break;
+    }
+    case WaveModel::PiersonMoskowitz:
+    case WaveModel::Jonswap:
+    case WaveModel::Elfouhaily: {
+        const WaveSpectrum s(spectrumParamsFor(p));
+        out.field = synthesizeSpectral(g, s, p.windDirection, p.seed, p.time, p.depth);
+        power = spectralModePower(g, s, p.windDirection);
+        // Full-spectrum moments up to 1e4 rad/m (beyond the capillary range of Elfouhaily's
+        // spectrum); the PM/JONSWAP k^-3 tail makes their full mss grow without bound, so only
+        // the resolved values are reported for them.
+        const auto m = s.moments(1.0e4);
+        pr.rmsHeight = std::sqrt(m.m0);
+        if (p.model == WaveModel::Elfouhaily) {
+            pr.mssUpwind = m.mssUpwind;
+            pr.mssCrosswind = m.mssCrosswind;
+        }
+        pr.peakWavelength = 2 * kPi / s.peakWavenumber();
+        out.description = s.describe();
+        break;
+    }
+    case WaveModel::Sinusoid: {
+        out.field = sinusoidField(g, p.amplitude, p.wavelength, p.phase, p.windDirection, p.time, p.depth);
+        const double ak = p.amplitude * 2 * kPi / p.wavelength;
+        pr.rmsHeight = p.amplitude / std::sqrt(2.0);
+        pr.rmsSlope = ak / 2.0;  // per axis: mss along the wave (ak)^2/2, across 0
+        pr.mssUpwindResolved = 0.5 * ak * ak;
+        pr.mssCrosswindResolved = 0.0;
+        pr.correlationLength = std::acos(std::exp(-1.0)) / (2 * kPi / p.wavelength);  // along the wave
+        pr.peakWavelength = p.wavelength;
+        out.description = fmt::format("sinusoid: amplitude {} m, wavelength {} m, first trough at {} m", p.amplitude,
+                                      p.wavelength, p.phase);
+        break;
+    }
+    case WaveModel::Flat:
+        out.field = flatField(g);
+        pr.correlationLength = kNaN;
+        out.description = "flat surface at z = 0";
+        break;
+    }
+    if (power) {
+        // Resolved mean-square slopes: Sum over the grid's modes of (k . u)^2 E|h_k|^2.
+        const double cu = std::cos(p.windDirection), su = std::sin(p.windDirection);
+        double mu = 0, mc = 0;
+        for (int n = 0; n < g.ny; ++n)
+            for (int mm = 0; mm < power->halfX(); ++mm) {
+                const double P = power->power[static_cast<size_t>(n) * power->halfX() + mm] * power->weight(mm);
+                const double kx = power->kx(mm), ky = power->ky(n);
+                mu += P * sqr(kx * cu + ky * su);
+                mc += P * sqr(-kx * su + ky * cu);
+            }
+        pr.mssUpwindResolved = mu;
+        pr.mssCrosswindResolved = mc;
+        const ExpectedStats e = expectedStatistics(*power, p.windDirection);
+        pr.expectedRmsHeight = std::sqrt(e.variance);
+        pr.expectedRmsSlope = std::sqrt(0.5 * (e.mssX + e.mssY));
+        pr.expectedCorrelationLength = e.correlationLength;
+        if (p.model != WaveModel::Beaufort) {
+            pr.rmsSlope = std::sqrt(0.5 * (mu + mc));
+            pr.correlationLength = e.correlationLength;
+        }
+    } else {
+        pr.expectedRmsHeight = pr.rmsHeight;
+        pr.expectedRmsSlope = pr.rmsSlope;
+        pr.expectedCorrelationLength = pr.correlationLength;
+    }
+    pr.significantWaveHeight = 4.0 * pr.rmsHeight;
+    out.seconds.synthesis = seconds(t0);
+    progress.advance();
+
+    t0 = std::chrono::steady_clock::now();
+    Facets f = facetize(out.field, p.triangles == 0 ? gridTriangles(out.field) : p.triangles);
+    out.mesh = std::move(f.mesh);
+    out.vertexNormals = std::move(f.vertexNormals);
+    out.seconds.facetization = seconds(t0);
+    progress.advance();
+
+    t0 = std::chrono::steady_clock::now();
+    out.grid = measureHeightField(out.field, statsDirection);
+    out.actual = measureMesh(out.mesh, out.field, statsDirection, &out.meshMaxDeviation);
+    out.seconds.statistics = seconds(t0);
+    progress.advance();
+    progress.finish();
+    return out;
+}
+
+}  // namespace littoral::surfaces

@@ -1,0 +1,110 @@
+// `littoral waves` end to end: outputs on success, exit 1 and no file on each input mistake.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/mesh.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kBinary = std::string(LITTORAL_BINARY_DIR) + "/bin/littoral";
+
+struct CmdResult {
+    int status = -1;
+    std::string output;
+};
+CmdResult run(const std::string& args) {
+    CmdResult r;
+    const std::string cmd = kBinary + " -q " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+fs::path tempDir() {
+    const fs::path d = fs::temp_directory_path() / ("littoral_waves_cli_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+}
+}  // namespace
+
+TEST(WavesCli, WritesMeshAndStats) {
+    if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built";
+    const fs::path d = tempDir();
+    const fs::path mesh = d / "sea.ply", stats = d / "stats.json";
+    const CmdResult r = run("waves --wind 6 --size 60 --spacing 0.5 --triangles 3000 --out " + mesh.string() + " --stats " +
+                      stats.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_TRUE(fs::exists(mesh));
+    ASSERT_TRUE(fs::exists(stats));
+    const auto j = nlohmann::json::parse(std::ifstream(stats));
+    EXPECT_EQ(j["model"], "beaufort");
+    EXPECT_EQ(j["wind_speed"].get<double>(), 6.0);
+    EXPECT_EQ(j["beaufort"]["number"].get<int>(), 4);
+    EXPECT_EQ(j["beaufort"]["description"], "Small waves");
+    // Predicted values of Tables 9.5/10.2 at 6 m/s.
+    EXPECT_NEAR(j["predicted"]["rms_height"].get<double>(), 0.576, 1e-12);
+    EXPECT_NEAR(j["predicted"]["rms_slope"].get<double>(), 0.03372, 1e-12);
+    EXPECT_NEAR(j["predicted"]["correlation_length"].get<double>(), 24.157, 1e-3);
+    for (const char* k : {"rms_height", "rms_slope", "correlation_length", "mss_upwind", "mss_crosswind"})
+        EXPECT_TRUE(j["actual"][k].is_number()) << k;
+    const littoral::TriMesh m = littoral::readPly(mesh);
+    EXPECT_EQ(j["mesh"]["triangles"].get<size_t>(), m.numTriangles());
+    EXPECT_EQ(j["mesh"]["vertices"].get<size_t>(), m.numVertices());
+    EXPECT_LE(m.numTriangles(), 3000u);
+    // OBJ output with normals.
+    const fs::path obj = d / "sea.obj";
+    ASSERT_EQ(run("waves --model sinusoid --amplitude 0.3 --wavelength 4 --size 20 --spacing 0.5 --triangles 0 --out " +
+                  obj.string()).status, 0);
+    std::ifstream in(obj);
+    std::string line;
+    int v = 0, vn = 0, f = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind("v ", 0) == 0) ++v;
+        if (line.rfind("vn ", 0) == 0) ++vn;
+        if (line.rfind("f ", 0) == 0) ++f;
+    }
+    EXPECT_EQ(v, 41 * 41);
+    EXPECT_EQ(vn, 41 * 41);
+    EXPECT_EQ(f, 2 * 40 * 40);
+    fs::remove_all(d);
+}
+
+// Each mistake: exit status 1, a message naming the option, and no output file.
+TEST(WavesCli, BadInputExitsOneWithoutOutput) {
+    if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built";
+    const fs::path d = tempDir();
+    const fs::path mesh = d / "bad.ply", stats = d / "bad.json";
+    const std::string outs = " --out " + mesh.string() + " --stats " + stats.string();
+    const struct {
+        std::string args, needle;
+    } cases[] = {
+        {"waves --wind -3", "--wind"},
+        {"waves --wind 500", "--wind"},
+        {"waves --wind 6 --spacing 0", "--spacing"},
+        {"waves --wind 6 --size 90000 --spacing 0.01", "GiB"},
+        {"waves --wind 6 --size 100 --spacing 1 --triangles 50000", "--triangles"},
+        {"waves --wind 6 --model jonswapp", "did you mean 'jonswap'"},
+        {"waves --model beaufort", "--wind"},
+    };
+    for (const auto& c : cases) {
+        const CmdResult r = run(c.args + outs);
+        EXPECT_EQ(r.status, 1) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.needle), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(mesh)) << c.args;
+        EXPECT_FALSE(fs::exists(stats)) << c.args;
+    }
+    const CmdResult r = run("waves --wind 6 --out " + (d / "x.stl").string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+    fs::remove_all(d);
+}
