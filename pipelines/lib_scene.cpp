@@ -1,20 +1,69 @@
 #include "pipelines/lib_scene.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 
+#include "core/log.h"
+#include "render/render_job.h"
+#include "scenegen/assemble.h"
+#include "scenegen/assembly_sections.h"
 #include "scenegen/scene_file.h"
+#include "scenegen/surface_section.h"
+#include "scenegen/synthetic_site.h"
 
 namespace littoral::pipelines {
 
-std::string checkScene(const std::filesystem::path& sceneFile) {
+namespace fs = std::filesystem;
+
+std::string checkScene(const fs::path& sceneFile) {
     const auto spec = scenegen::loadSceneFile(sceneFile);
+    // The geometry sections are checked by their own parsers without generating anything.
+    if (spec.waterSurface) scenegen::parseWaterSurface(*spec.waterSurface);
+    if (spec.bathymetry) scenegen::parseBathymetry(*spec.bathymetry);
+    size_t objects = 0;
+    if (spec.objects) objects = scenegen::parseObjects(*spec.objects).size();
+    if (spec.textureClasses) scenegen::parseTextureClasses(*spec.textureClasses);
     std::string s;
     s += fmt::format("  scene '{}': domain [{}, {}] x [{}, {}] m\n", spec.scene.name, spec.scene.x0, spec.scene.x1,
                      spec.scene.y0, spec.scene.y1);
-    s += fmt::format("  {} band(s), {} sensor(s), {} probe(s), {} material(s){}\n", spec.render.settings.bands.size(),
-                     spec.sensors.size(), spec.probes.size(), spec.materials.size(),
-                     spec.hasWater ? ", water" : "");
+    s += fmt::format("  {} band(s), {} sensor(s), {} probe(s), {} material(s), {} object(s){}{}\n",
+                     spec.render.settings.bands.size(), spec.sensors.size(), spec.probes.size(), spec.materials.size(),
+                     objects, spec.hasWater ? ", water" : "", spec.bathymetry ? ", bathymetry" : "");
     return s;
+}
+
+std::string runScene(const RunOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const fs::path out(o.out), irDir = out / "ir";
+    const auto built = scenegen::buildScene(o.scene, irDir);
+    const auto t1 = std::chrono::steady_clock::now();
+    render::RenderJobOptions jo;
+    jo.sensor = o.sensor;
+    jo.threads = o.threads;
+    jo.progress = o.progress;
+    const auto res = render::runRenderJob(built.ir, irDir, out, jo);
+    const auto t2 = std::chrono::steady_clock::now();
+    std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
+                                std::chrono::duration<double>(t1 - t0).count());
+    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s)\n", res.images.size(), res.probes.size(),
+                     out.string(), std::chrono::duration<double>(t2 - t1).count());
+    for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
+    return s;
+}
+
+std::string runDemo(const DemoOptions& o) {
+    const fs::path out(o.out);
+    scenegen::SiteOptions so;
+    so.seed = o.seed;
+    const auto site = scenegen::writeSyntheticSite(out / "site", so);
+    RunOptions ro;
+    ro.scene = site.sceneFile.string();
+    ro.out = o.out;
+    ro.threads = o.threads;
+    ro.progress = o.progress;
+    std::string s = fmt::format("wrote the synthetic coastal site (seed {}) -> {}\n", o.seed, site.sceneFile.string());
+    return s + runScene(ro);
 }
 
 }  // namespace littoral::pipelines

@@ -1,0 +1,27 @@
+// `littoral demo [--out DIR]`: the built-in default scene, end to end. It writes the synthetic
+// coastal site (data_synthetic's generator: beach, sandbar, six-class shore map, pier, boat,
+// step targets, a Beaufort wind-roughened surface) into OUT/site, builds it into OUT/ir and
+// renders its sensors into OUT.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "pipelines/command_registry.h"
+#include "pipelines/lib_scene.h"
+
+namespace {
+
+littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
+    auto* cmd = app.add_subcommand("demo", "Generate, build and render the built-in coastal scene");
+    auto o = std::make_shared<littoral::pipelines::DemoOptions>();
+    cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the synthetic site and the render")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->callback([o] {
+        o->progress = !littoral::globalOptions().quiet;
+        const auto summary = littoral::pipelines::runDemo(*o);
+        std::printf("%s", summary.c_str());
+    });
+}};
+
+}  // namespace

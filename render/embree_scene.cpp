@@ -1,0 +1,328 @@
+#include "render/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "core/stats.h"
+
+namespace littoral::render {
+
+namespace {
+
+void embreeErrorCallback(void*, RTCError code, const char* str) {
+    // Embree reports allocation failures and API misuse here; both are internal faults.
+    log::error("embree error {}: {}", static_cast<int>(code), str ? str : "");
+}
+
+// Per-thread ray counts, flushed into the named counters by flushRayStats(): one atomic
+// add per ray shared by all threads would cost more than a coherent Embree traversal.
+struct RayCounts {
+    int64_t cast = 0, hits = 0, shadow = 0;
+};
+thread_local RayCounts tlsCounts;
+
+// 2^-18: see the header comment for the derivation (64 float ulp of the coordinate scale).
+constexpr double kOffsetRelative = 0x1.0p-18;
+
+}  // namespace
+
+void flushRayStats() {
+    static StatCounter& cast = statCounter("rays cast");
+    static StatCounter& hits = statCounter("ray hits");
+    static StatCounter& shadow = statCounter("shadow rays");
+    RayCounts& c = tlsCounts;
+    if (c.cast) cast.add(c.cast);
+    if (c.hits) hits.add(c.hits);
+    if (c.shadow) shadow.add(c.shadow);
+    c = RayCounts{};
+}
+
+double offsetDistance(const Point3& p) {
+    const double m = std::max({1.0, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return kOffsetRelative * m;
+}
+
+Ray spawnRay(const Point3& p, const Normal3& ng, const Vec3& dir) {
+    const double eps = offsetDistance(p);
+    Ray r;
+    r.o = p + ng * (dot(dir, ng) >= 0 ? eps : -eps);
+    r.d = dir;
+    r.tMin = 0.0;
+    return r;
+}
+
+Ray spawnRayTo(const Point3& p, const Normal3& ng, const Point3& q) {
+    Vec3 d = q - p;
+    const double len = length(d);
+    Ray r = spawnRay(p, ng, d / len);
+    // Stop short of the target surface by its own offset so it does not occlude itself.
+    r.tMax = std::max(0.0, length(q - r.o) - offsetDistance(q));
+    return r;
+}
+
+struct EmbreeScene::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<RTCScene> meshScenes;   // per mesh, created only when instanced
+
+    // Double-precision geometry for hit reconstruction.
+    struct MeshRef {
+        const TriMesh* mesh = nullptr;
+        // Per face, in the mesh's own frame: unit normal (CCW side) and plane offset dot(n, v0),
+        // double precision; the hit reconstruction needs only these (no vertex fetches).
+        std::vector<Vec3> normal;
+        std::vector<double> offset;
+    };
+    std::vector<MeshRef> meshes;
+    struct Xform {
+        double R[9];
+        Vec3 t;
+        int mesh;
+    };
+    std::vector<Xform> instances;
+    std::vector<int> geomToMesh;      // top-level geomID -> mesh index (direct placements)
+    std::vector<int> geomToInstance;  // top-level geomID -> instance index (instance geometries)
+    BBox3 box;
+    uint64_t triangles = 0;
+
+
+    ~Impl() {
+        for (RTCScene s : meshScenes)
+            if (s) rtcReleaseScene(s);
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+
+    RTCGeometry makeTriangles(const TriMesh& m) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), m.positions.size()));
+        for (size_t i = 0; i < m.positions.size(); ++i) {
+            v[3 * i + 0] = static_cast<float>(m.positions[i].x);
+            v[3 * i + 1] = static_cast<float>(m.positions[i].y);
+            v[3 * i + 2] = static_cast<float>(m.positions[i].z);
+        }
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), m.triangles.size()));
+        for (size_t i = 0; i < m.triangles.size(); ++i) {
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t vi = m.triangles[i][k];
+                if (vi >= m.positions.size())
+                    throw InputError(fmt::format("mesh triangle {} references vertex {} of {}", i, vi,
+                                                 m.positions.size()));
+                idx[3 * i + k] = vi;
+            }
+        }
+        rtcCommitGeometry(g);
+        return g;
+    }
+
+    static void setRay(RTCRay& rr, const Ray& r) {
+        rr.org_x = static_cast<float>(r.o.x);
+        rr.org_y = static_cast<float>(r.o.y);
+        rr.org_z = static_cast<float>(r.o.z);
+        rr.dir_x = static_cast<float>(r.d.x);
+        rr.dir_y = static_cast<float>(r.d.y);
+        rr.dir_z = static_cast<float>(r.d.z);
+        rr.tnear = static_cast<float>(r.tMin);
+        rr.tfar = std::isfinite(r.tMax) ? static_cast<float>(r.tMax) : std::numeric_limits<float>::infinity();
+        rr.time = 0.0f;
+        rr.mask = 0xFFFFFFFFu;
+        rr.id = 0;
+        rr.flags = 0;
+    }
+
+    Point3 worldVertex(int inst, const TriMesh& m, uint32_t vi) const {
+        const Point3& p = m.positions[vi];
+        if (inst < 0) return p;
+        const Xform& x = instances[inst];
+        return Point3{x.R[0] * p.x + x.R[1] * p.y + x.R[2] * p.z, x.R[3] * p.x + x.R[4] * p.y + x.R[5] * p.z,
+                      x.R[6] * p.x + x.R[7] * p.y + x.R[8] * p.z} +
+               x.t;
+    }
+};
+
+EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()) {
+    Impl& s = *impl_;
+    s.device = rtcNewDevice(nullptr);
+    if (!s.device) throw InternalError("embree: rtcNewDevice failed");
+    rtcSetDeviceErrorFunction(s.device, embreeErrorCallback, nullptr);
+    s.scene = rtcNewScene(s.device);
+    // ROBUST: no traversal shortcuts that lose rays through shared triangle edges (closed
+    // water volumes must not leak).
+    rtcSetSceneFlags(s.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
+
+    s.meshes.resize(ir.meshes.size());
+    s.meshScenes.assign(ir.meshes.size(), nullptr);
+    for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
+        const TriMesh& m = ir.meshes[mi].data;
+        s.meshes[mi].mesh = &m;
+        s.meshes[mi].normal.resize(m.triangles.size());
+        s.meshes[mi].offset.resize(m.triangles.size());
+        for (size_t f = 0; f < m.triangles.size(); ++f) {
+            const auto& t = m.triangles[f];
+            for (int k = 0; k < 3; ++k)
+                if (t[k] >= m.positions.size())
+                    throw InputError(fmt::format("mesh '{}': triangle {} references vertex {} of {}",
+                                                 ir.meshes[mi].name, f, t[k], m.positions.size()));
+            const Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+            const double len = length(n);
+            if (!(len > 0))
+                log::debug("mesh '{}': triangle {} is degenerate (zero area)", ir.meshes[mi].name, f);
+            s.meshes[mi].normal[f] = len > 0 ? n / len : Vec3{0, 0, 1};
+            s.meshes[mi].offset[f] = dot(s.meshes[mi].normal[f], m.positions[t[0]]);
+        }
+        if (m.triangles.empty()) continue;
+        RTCGeometry g = s.makeTriangles(m);
+        const unsigned id = rtcAttachGeometry(s.scene, g);
+        rtcReleaseGeometry(g);
+        if (s.geomToMesh.size() <= id) {
+            s.geomToMesh.resize(id + 1, -1);
+            s.geomToInstance.resize(id + 1, -1);
+        }
+        s.geomToMesh[id] = static_cast<int>(mi);
+        s.box.expand(m.bounds());
+        s.triangles += m.triangles.size();
+    }
+
+    for (size_t ii = 0; ii < ir.instances.size(); ++ii) {
+        const ir::Instance& in = ir.instances[ii];
+        int mi = -1;
+        for (size_t k = 0; k < ir.meshes.size(); ++k)
+            if (ir.meshes[k].name == in.mesh) mi = static_cast<int>(k);
+        if (mi < 0) throw InputError(fmt::format("instances[{}]: unknown mesh '{}'", ii, in.mesh));
+        Impl::Xform x;
+        std::copy(in.rotation, in.rotation + 9, x.R);
+        x.t = in.translation;
+        x.mesh = mi;
+        s.instances.push_back(x);
+        const TriMesh& m = ir.meshes[mi].data;
+        if (m.triangles.empty()) continue;
+        if (!s.meshScenes[mi]) {
+            RTCScene sub = rtcNewScene(s.device);
+            rtcSetSceneFlags(sub, RTC_SCENE_FLAG_ROBUST);
+            rtcSetSceneBuildQuality(sub, RTC_BUILD_QUALITY_HIGH);
+            RTCGeometry g = s.makeTriangles(m);
+            rtcAttachGeometry(sub, g);
+            rtcReleaseGeometry(g);
+            rtcCommitScene(sub);
+            s.meshScenes[mi] = sub;
+        }
+        RTCGeometry g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, s.meshScenes[mi]);
+        rtcSetGeometryTimeStepCount(g, 1);
+        const float xf[12] = {float(x.R[0]), float(x.R[1]), float(x.R[2]), float(x.t.x),
+                              float(x.R[3]), float(x.R[4]), float(x.R[5]), float(x.t.y),
+                              float(x.R[6]), float(x.R[7]), float(x.R[8]), float(x.t.z)};
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
+        rtcCommitGeometry(g);
+        const unsigned id = rtcAttachGeometry(s.scene, g);
+        rtcReleaseGeometry(g);
+        if (s.geomToMesh.size() <= id) {
+            s.geomToMesh.resize(id + 1, -1);
+            s.geomToInstance.resize(id + 1, -1);
+        }
+        s.geomToInstance[id] = static_cast<int>(ii);
+        for (uint32_t vi = 0; vi < m.positions.size(); ++vi)
+            s.box.expand(s.worldVertex(static_cast<int>(ii), m, vi));
+        s.triangles += m.triangles.size();
+    }
+    rtcCommitScene(s.scene);
+}
+
+EmbreeScene::~EmbreeScene() = default;
+
+bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
+    const Impl& s = *impl_;
+    ++tlsCounts.cast;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    Impl::setRay(rh.ray, r);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(s.scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    ++tlsCounts.hits;
+
+    int inst = -1, mesh;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        inst = s.geomToInstance[rh.hit.instID[0]];
+        mesh = s.instances[inst].mesh;
+    } else {
+        mesh = s.geomToMesh[rh.hit.geomID];
+    }
+    const Impl::MeshRef& mr = s.meshes[mesh];
+    const TriMesh& m = *mr.mesh;
+    const uint32_t f = rh.hit.primID;
+    // Double-precision reconstruction: intersect the double ray with the triangle's plane
+    // dot(ng, x) = offset, precomputed per face for direct placements; for an instance the
+    // plane is rebuilt from the transformed vertices (valid for any linear part, not only
+    // rotations). Near-grazing rays (|cos| < 1e-9) keep Embree's single-precision distance.
+    Vec3 ng = mr.normal[f];
+    double offset = mr.offset[f];
+    if (inst >= 0) {
+        const auto& tri = m.triangles[f];
+        const Point3 v0 = s.worldVertex(inst, m, tri[0]);
+        const Vec3 n = cross(s.worldVertex(inst, m, tri[1]) - v0, s.worldVertex(inst, m, tri[2]) - v0);
+        const double len = length(n);
+        ng = len > 0 ? n / len : Vec3{0, 0, 1};
+        offset = dot(ng, v0);
+    }
+    const double denom = dot(r.d, ng);
+    double t = static_cast<double>(rh.ray.tfar);
+    if (std::abs(denom) > 1e-9) {
+        const double tp = (offset - dot(ng, r.o)) / denom;
+        if (std::isfinite(tp) && tp >= 0) t = tp;
+    }
+    hit->t = t;
+    hit->p = r.at(t);
+    hit->ng = ng;
+    hit->mesh = mesh;
+    hit->instance = inst;
+    hit->face = f;
+    hit->slot = m.materialOf(f);
+    hit->front = denom < 0;
+    return true;
+}
+
+bool EmbreeScene::occluded(const Ray& r) const {
+    const Impl& s = *impl_;
+    ++tlsCounts.shadow;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay rr;
+    Impl::setRay(rr, r);
+    rtcOccluded1(s.scene, &ctx, &rr);
+    return rr.tfar == -std::numeric_limits<float>::infinity();
+}
+
+BBox3 EmbreeScene::bounds() const { return impl_->box; }
+uint64_t EmbreeScene::triangleCount() const { return impl_->triangles; }
+bool EmbreeScene::empty() const { return impl_->triangles == 0; }
+
+uint64_t EmbreeScene::rawIntersectCount(const Ray* rays, size_t n) const {
+    const Impl& s = *impl_;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    uint64_t hits = 0;
+    for (size_t i = 0; i < n; ++i) {
+        RTCRayHit rh;
+        Impl::setRay(rh.ray, rays[i]);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(s.scene, &ctx, &rh);
+        hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    return hits;
+}
+
+}  // namespace littoral::render

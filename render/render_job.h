@@ -1,0 +1,43 @@
+#pragma once
+// A whole render run: Scene IR directory in, images and probe tables out (`littoral render`).
+//
+// Every sensor and probe is computed in memory first; files are written only after all of them
+// succeeded, each through an atomic temporary, so bad input (InputError) leaves no output at all.
+//
+// Output files in `outDir`, per sensor S:
+//   S.exr              multi-band radiance, channels named by wavelength
+//   S.img + S.hdr      ENVI band-sequential float32 with the wavelength list
+//   S.png              8-bit preview (band -> RGB or grey, gamma 0.65)
+//   S_truth.exr        materialId, range (m), hitDepth (m) of the pixel-centre rays
+//   S_material.png     false-colour material ids
+// and, if the scene has probes, probes.csv and probes.json.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/scene_ir.h"
+#include "render/probes.h"
+#include "render/renderer.h"
+
+namespace littoral::render {
+
+struct RenderJobOptions {
+    std::string sensor;    // render only this sensor ("" = all)
+    int threads = 0;       // 0 = all cores
+    bool progress = true;
+};
+
+struct RenderJobResult {
+    std::vector<SensorImage> images;
+    std::vector<ProbeValue> probes;
+    std::vector<std::filesystem::path> written;
+};
+
+// Renders an IR already in memory (`irDir` resolves textures) and writes the outputs.
+RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
+                             const std::filesystem::path& outDir, const RenderJobOptions& opts);
+// Reads the IR from `irDir` (ir::readIR) and runs the job.
+RenderJobResult runRenderJob(const std::filesystem::path& irDir, const std::filesystem::path& outDir,
+                             const RenderJobOptions& opts);
+
+}  // namespace littoral::render

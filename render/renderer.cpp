@@ -1,0 +1,205 @@
+#include "render/renderer.h"
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "core/progress.h"
+#include "core/rng.h"
+#include "render/integrator.h"
+#include "render/sampling.h"
+
+namespace littoral::render {
+
+namespace {
+
+struct Tiling {
+    int width, height, size, nx, ny;
+    Tiling(int w, int h, int s) : width(w), height(h), size(std::max(1, s)) {
+        nx = (w + size - 1) / size;
+        ny = (h + size - 1) / size;
+    }
+    size_t count() const { return static_cast<size_t>(nx) * ny; }
+    template <class F> void forEachPixel(size_t tile, F&& f) const {
+        const int tx = static_cast<int>(tile % nx), ty = static_cast<int>(tile / nx);
+        const int x0 = tx * size, y0 = ty * size;
+        const int x1 = std::min(width, x0 + size), y1 = std::min(height, y0 + size);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) f(x, y);
+    }
+};
+
+template <class F> void runTiles(const RenderOptions& opts, const Tiling& tiling, Progress* progress, F&& body) {
+    tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, tiling.count(), 1), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t t = r.begin(); t != r.end(); ++t) {
+                body(t);
+                flushRayStats();
+                if (progress) progress->advance();
+            }
+        });
+    });
+}
+
+// Follows a pixel-centre ray through specular interfaces (refracting where possible, reflecting
+// under TIR) to the first opaque surface; returns its depth below z = 0 (0 above), NaN if none.
+float truthDepth(const Scene& scene, Ray ray, int maxEvents) {
+    SurfaceHit h;
+    for (int e = 0; e <= maxEvents; ++e) {
+        if (!scene.geometry().intersect(ray, &h)) return std::numeric_limits<float>::quiet_NaN();
+        const MaterialData& m = scene.materials()[scene.materialIndex(h)];
+        if (m.isOpaque()) return static_cast<float>(h.p.z < 0 ? -h.p.z : 0.0);
+        const int mIn = scene.insideMedium(h.mesh), mOut = scene.outsideMedium(h.mesh);
+        const double nO = scene.media()[h.front ? mOut : mIn].n[0];
+        const double nT = scene.media()[h.front ? mIn : mOut].n[0];
+        const Normal3 n = h.front ? h.ng : -h.ng;
+        Vec3 wt;
+        if (refract(-ray.d, n, nO / nT, &wt)) {
+            ray = spawnRay(h.p, h.ng, normalize(wt));
+        } else {
+            ray = spawnRay(h.p, h.ng, normalize(reflect(-ray.d, n)));
+        }
+    }
+    return std::numeric_limits<float>::quiet_NaN();
+}
+
+}  // namespace
+
+void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who) {
+    static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const Vec3& d : dirs) {
+        Ray r;
+        r.o = p;
+        r.d = d;
+        SurfaceHit h;
+        if (!scene.geometry().intersect(r, &h)) continue;
+        const MaterialData& m = scene.materials()[scene.materialIndex(h)];
+        // A closed mesh that encloses a medium (a water volume, even with black floor faces) is
+        // not an opaque object; one with air inside and an opaque face seen from behind is.
+        if (!h.front && m.isOpaque() && scene.meshClosed(h.mesh) && scene.insideMedium(h.mesh) == 0)
+            throw InputError(fmt::format("{}: position ({}, {}, {}) is inside the closed opaque mesh '{}' (material "
+                                         "'{}'): the camera would see only the inside of the object",
+                                         who, p.x, p.y, p.z, scene.ir().meshes[h.mesh].name, m.name));
+    }
+}
+
+// Warns when the medium the sensor declares disagrees with the interfaces around it (e.g. a camera
+// placed inside a water volume but declared in air: its first segment would not be attenuated).
+static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declared, const std::string& who) {
+    static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    int seen = -1, votes = 0;
+    for (const Vec3& d : dirs) {
+        Ray r;
+        r.o = p;
+        r.d = d;
+        SurfaceHit h;
+        if (!scene.geometry().intersect(r, &h)) continue;
+        if (!scene.materials()[scene.materialIndex(h)].isSpecularInterface()) continue;
+        const int m = h.front ? scene.outsideMedium(h.mesh) : scene.insideMedium(h.mesh);
+        if (seen >= 0 && m != seen) return;  // ambiguous surroundings: say nothing
+        seen = m;
+        ++votes;
+    }
+    if (votes > 0 && seen != declared)
+        log::warn("{}: declared in medium '{}' but the surrounding interfaces say '{}'", who,
+                  scene.media()[declared].name, scene.media()[seen].name);
+}
+
+TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
+    const Camera cam(sensor);
+    const std::string who = fmt::format("sensor '{}'", sensor.name);
+    const int medium = scene.mediumIndex(sensor.medium, who + " medium");
+    if (sensor.type == ir::Sensor::Type::Pinhole) {
+        checkNotInsideOpaque(scene, sensor.position, who);
+        warnIfMediumMismatch(scene, sensor.position, medium, who);
+    }
+    TruthImages truth(cam.width(), cam.height());
+    const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
+    std::atomic<int64_t> hits{0};
+    const int maxEvents = scene.ir().render.maxSpecularDepth;
+    runTiles(opts, tiling, nullptr, [&](size_t tile) {
+        int64_t local = 0;
+        tiling.forEachPixel(tile, [&](int x, int y) {
+            const Ray ray = cam.generateRay(x + 0.5, y + 0.5);
+            SurfaceHit h;
+            const size_t i = truth.index(x, y);
+            if (!scene.geometry().intersect(ray, &h)) return;
+            ++local;
+            truth.materialId[i] = scene.materialIndex(h);
+            truth.range[i] = static_cast<float>(h.t);
+            truth.hitDepth[i] = truthDepth(scene, ray, maxEvents);
+        });
+        hits += local;
+    });
+    if (hits.load() == 0)
+        throw InputError(fmt::format("{}: empty view: none of the {} x {} pixel rays meets any geometry (check "
+                                     "position, forward and the field of view)",
+                                     who, cam.width(), cam.height()));
+    return truth;
+}
+
+SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
+    SensorImage out;
+    out.sensor = sensor.name;
+    out.truth = renderTruth(scene, sensor, opts);  // also validates the camera and the view
+    const Camera cam(sensor);
+    const int medium = scene.mediumIndex(sensor.medium, fmt::format("sensor '{}' medium", sensor.name));
+    out.film = Film(cam.width(), cam.height(), scene.bands());
+    const int nb = scene.bandCount();
+    const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
+    const auto groups = bandGroups(scene);
+    const uint64_t seed = scene.ir().render.seed;
+    const int spp = cam.samplesPerPixel();
+    const StratifiedLayout pixelLayout(spp);
+
+    std::unique_ptr<Progress> progress;
+    if (opts.progress)
+        progress = std::make_unique<Progress>(fmt::format("render {}", sensor.name), tiling.count() * groups.size(),
+                                              "tiles");
+    std::atomic<int64_t> nonFinite{0};
+    for (const BandGroup& g : groups) {
+        const Integrator integrator(scene, g);
+        runTiles(opts, tiling, progress.get(), [&](size_t tile) {
+            tiling.forEachPixel(tile, [&](int x, int y) {
+                const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
+                Spec sum(g.count);
+                for (int s = 0; s < spp; ++s) {
+                    RandomStream rng(seed, static_cast<uint64_t>(s), pixel);
+                    Vec2 u{0.5, 0.5};  // one sample: the pixel centre (as the thesis' comparators)
+                    const double j1 = rng.uniform(), j2 = rng.uniform();
+                    if (spp > 1) u = pixelLayout.point(s, j1, j2);
+                    const Ray ray = cam.generateRay(x + u.x, y + u.y);
+                    PathState st;
+                    st.medium = medium;
+                    st.splits = 3;
+                    st.fromSensor = true;
+                    sum += integrator.Li(ray, st, rng);
+                }
+                float* px = &out.film.pixels[pixel * nb];
+                for (int b = 0; b < g.count; ++b) {
+                    double v = sum[b] / spp;
+                    if (!std::isfinite(v)) {  // never expected; counted and reported, not written
+                        ++nonFinite;
+                        v = 0.0;
+                    }
+                    px[g.begin + b] = static_cast<float>(v);
+                }
+            });
+        });
+    }
+    if (progress) progress->finish();
+    if (nonFinite.load() > 0)
+        log::warn("sensor '{}': {} pixel values were not finite and were set to 0 (please report)", sensor.name,
+                  nonFinite.load());
+    return out;
+}
+
+}  // namespace littoral::render

@@ -1,0 +1,48 @@
+#pragma once
+// Rendering a sensor: the tile-parallel driver around the Integrator.
+//
+// Pixel sample s of pixel (i, j) draws all its random numbers from
+// RandomStream(seed, pass = s, index = j * W + i), and each image tile is written by exactly
+// one task, so an image is bit-for-bit identical for any thread count or schedule.
+//
+// Checks made before any radiance is computed (all InputError, nothing is written):
+//  * zero or negative image size, bad optics (Camera);
+//  * (pinhole sensors) the camera sits inside an opaque object: a probe ray along any of the six
+//    axis directions first meets the back (inside) of an opaque face of a closed mesh whose
+//    inside medium is air (a water volume with black floor faces is not an opaque object);
+//  * an empty view: none of the pixel-centre rays meets any geometry (the image would show only
+//    sky or black; an aim error, e.g. a flipped forward vector, or a scene with nothing in view);
+//  * spectra outside a band's range, unknown names (Scene construction).
+#include <string>
+
+#include "core/scene_ir.h"
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/scene.h"
+
+namespace littoral::render {
+
+struct RenderOptions {
+    int threads = 0;       // 0 = all cores
+    int tileSize = 16;     // pixels per tile side
+    bool progress = true;  // show a progress bar over tiles
+};
+
+struct SensorImage {
+    std::string sensor;
+    Film film;            // band-averaged radiance, W m^-2 sr^-1 um^-1
+    TruthImages truth;    // first-hit material, range, depth below z = 0 of the pixel-centre ray
+};
+
+// Renders one sensor of the scene.
+SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts = {});
+
+// Geometric truth only (pixel-centre rays; refracted rays followed, with the first band's
+// refractive indices, TIR reflected, to the first opaque surface for hitDepth). Also performs the
+// camera checks above.
+TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts = {});
+
+// Throws InputError if the point lies inside a closed mesh with an opaque material.
+void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who);
+
+}  // namespace littoral::render
