@@ -129,10 +129,20 @@ ir::SceneIR sampleIR() {
     w.absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
     w.phase = {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88};
     s.media.push_back(w);
-    ir::Material sand{.name = "sand", .reflectance = Spectrum::constant(0.3)};
-    ir::Material iface{.name = "interface", .type = ir::Material::Type::Dielectric, .solver = ir::Material::Solver::Fresnel};
-    ir::Material tex{.name = "grass", .type = ir::Material::Type::Textured, .reflectance = Spectrum::constant(0.1),
-                     .texture = "textures/grass.exr", .textureX0 = -45, .textureY0 = -30, .textureX1 = 45, .textureY1 = 30};
+    ir::Material sand, iface, tex;
+    sand.name = "sand";
+    sand.reflectance = Spectrum::constant(0.3);
+    iface.name = "interface";
+    iface.type = ir::Material::Type::Dielectric;
+    iface.solver = ir::Material::Solver::Fresnel;
+    tex.name = "grass";
+    tex.type = ir::Material::Type::Textured;
+    tex.reflectance = Spectrum::constant(0.1);
+    tex.texture = "textures/grass.exr";
+    tex.textureX0 = -45;
+    tex.textureY0 = -30;
+    tex.textureX1 = 45;
+    tex.textureY1 = 30;
     s.materials = {sand, iface, tex};
     ir::Mesh m;
     m.name = "water";
