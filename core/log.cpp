@@ -3,6 +3,8 @@
 #include <atomic>
 #include <cstdio>
 #include <mutex>
+#include <set>
+#include <string>
 
 namespace littoral::log {
 
@@ -12,6 +14,12 @@ std::mutex gMutex;
 }  // namespace
 
 void setLevel(Level l) { gLevel = l; }
+
+bool firstTime(std::string_view msg) {
+    static std::set<std::string> seen;
+    std::lock_guard<std::mutex> lock(gMutex);
+    return seen.emplace(msg).second;
+}
 Level level() { return gLevel; }
 
 void write(Level l, std::string_view msg) {

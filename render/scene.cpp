@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/suggest.h"
 
 namespace littoral::render {
 
@@ -91,6 +92,7 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
         media_.push_back(std::move(d));
     }
 
+    std::vector<std::string> surfacePmStandIns;
     for (const ir::Material& m : ir.materials) {
         MaterialData d;
         d.name = m.name;
@@ -103,12 +105,8 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Lambertian:
             case T::Textured:
                 if (m.solver == S::SurfacePM) {
-                    // SurfacePM (photon-mapped) and Generic (hemisphere-sampled) solvers estimate the
-                    // same integral: sky fraction plus background reflections (dissertation Ch. 6,
-                    // where GRS and SRS converge). Until the surface photon map exists, Generic stands in.
-                    log::warn("{}: the SurfacePM solver needs the surface photon map, which this version does not "
-                              "build; rendering it with the Generic solver (same integral, hemisphere sampling)",
-                              who);
+                    // Until the surface photon map exists, Generic stands in (see the warning below).
+                    surfacePmStandIns.push_back("'" + m.name + "'");
                     d.solver = S::Generic;
                 } else if (m.solver != S::Classic && m.solver != S::Generic) {
                     throw InputError(fmt::format("{}: solver {} cannot evaluate a diffuse material (use Classic or "
@@ -148,6 +146,12 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
         }
         materials_.push_back(std::move(d));
     }
+    if (!surfacePmStandIns.empty())
+        // SurfacePM (photon-mapped) and Generic (hemisphere-sampled) estimate the same integral:
+        // sky fraction plus background reflections (dissertation Ch. 6, where GRS and SRS converge).
+        log::warn("material(s) {}: the SurfacePM solver needs the surface photon map, which this version does not "
+                  "build; rendering with the Generic solver (same integral, hemisphere sampling)",
+                  joinList(surfacePmStandIns));
 
     for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
         const ir::Mesh& mesh = ir.meshes[mi];

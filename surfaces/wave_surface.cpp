@@ -168,7 +168,7 @@ void validateWaveParams(const WaveParams& p) {
             fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
                                               "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
         if (std::min(p.sizeX, p.sizeY) < 5 * L)
-            log::warn("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
+            log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
                       "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
     } else if (wind) {
         const WaveSpectrum s(spectrumParamsFor(p));
@@ -177,7 +177,7 @@ void validateWaveParams(const WaveParams& p) {
             fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
                                               "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
         if (std::min(p.sizeX, p.sizeY) < lp)
-            log::warn("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
+            log::warnOnce("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
                       "not represented", std::min(p.sizeX, p.sizeY), lp);
     } else if (p.model == WaveModel::Sinusoid) {
         if (!std::isfinite(p.wavelength) || p.wavelength < 2 * dmax || p.wavelength > WaveLimits::kMaxSize)

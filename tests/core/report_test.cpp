@@ -53,3 +53,15 @@ TEST(Stats, ConcurrentCountersAreExact) {
     EXPECT_NE(os.str().find("test: rays cast"), std::string::npos);
     EXPECT_NE(os.str().find("400000"), std::string::npos);
 }
+
+#include "core/log.h"
+
+// The same warning text is printed once per process; a different text is printed.
+TEST(Log, WarnOncePrintsEachTextOnce) {
+    testing::internal::CaptureStderr();
+    log::warnOnce("grid {} m is small", 60);
+    log::warnOnce("grid {} m is small", 60);
+    log::warnOnce("grid {} m is small", 70);
+    const std::string out = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(out, "warning: grid 60 m is small\nwarning: grid 70 m is small\n");
+}
