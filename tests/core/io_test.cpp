@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -13,12 +15,7 @@ using namespace littoral;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path freshDir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("littoral_core_test_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path freshDir(const std::string& name) { return testing_support::scratchDir("core", name); }
 
 // A unit cube, outward-oriented: volume 1, area 6.
 TriMesh unitCube() {

@@ -1,6 +1,8 @@
 // End-to-end tests of the `littoral` command: exit codes and messages as a user sees them.
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -13,23 +15,8 @@ namespace {
 
 const fs::path kBinary = fs::path(LITTORAL_BINARY_DIR) / "bin" / "littoral";
 
-struct Result {
-    int status = -1;
-    std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-    Result r;
-    const std::string cmd = kBinary.string() + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
-}
+using Result = littoral::testing_support::CommandResult;
+Result run(const std::string& args) { return littoral::testing_support::runLittoral(args); }
 
 fs::path tempDir() {
     const fs::path d = fs::temp_directory_path() / "littoral_cli_test";

@@ -5,6 +5,8 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -25,12 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // A fresh directory per test under the build tree.
-fs::path scratchDir(const std::string& name) {
-    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_scratch" / "image_output" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path scratchDir(const std::string& name) { return testing_support::scratchDir("image_output", name); }
 
 std::vector<std::string> listDir(const fs::path& d) {
     std::vector<std::string> names;

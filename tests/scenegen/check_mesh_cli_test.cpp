@@ -1,6 +1,8 @@
 // `littoral check-mesh` exit codes and output, run as the user runs it.
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <sys/wait.h>
 
 #include <cmath>
@@ -48,12 +50,7 @@ CliRun run(const std::string& args, const fs::path& dir) {
     return r;
 }
 
-fs::path tempDir(const std::string& name) {
-    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_tmp" / "scenegen" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 // Binary little-endian PLY with float vertices, written by hand so a NaN can be stored.
 void writeFloatPly(const fs::path& p, const TriMesh& m) {

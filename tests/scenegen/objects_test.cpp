@@ -1,6 +1,8 @@
 // Procedural solids, mesh file I/O and object placement.
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,12 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempDir(const std::string& name) {
-    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_tmp" / "scenegen" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 double areaWithSlot(const TriMesh& m, uint16_t slot) {
     double a = 0;

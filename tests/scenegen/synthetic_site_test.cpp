@@ -1,6 +1,8 @@
 // The synthetic coastal site: reproducible files, and a full build that passes every check.
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -23,12 +25,7 @@ std::string slurp(const fs::path& p) {
     return s.str();
 }
 
-fs::path tempDir(const std::string& name) {
-    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_tmp" / "scenegen" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 }  // namespace
 

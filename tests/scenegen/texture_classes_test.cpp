@@ -1,6 +1,8 @@
 // Classification maps and the per-class mean/variance remap of textures.
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include <cmath>
 #include <filesystem>
 
@@ -14,12 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempDir(const std::string& name) {
-    const fs::path d = fs::path(LITTORAL_BINARY_DIR) / "test_tmp" / "scenegen" / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 template <class T>
 void writeImage(const fs::path& p, int w, int h, int nc, const std::vector<T>& data, OIIO::TypeDesc type) {

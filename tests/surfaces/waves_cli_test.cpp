@@ -5,6 +5,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "tests/support/test_support.h"
 #include <nlohmann/json.hpp>
 
 #include "core/mesh.h"
@@ -14,21 +16,8 @@ namespace fs = std::filesystem;
 namespace {
 const std::string kBinary = std::string(LITTORAL_BINARY_DIR) + "/bin/littoral";
 
-struct CmdResult {
-    int status = -1;
-    std::string output;
-};
-CmdResult run(const std::string& args) {
-    CmdResult r;
-    const std::string cmd = kBinary + " -q " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
-}
+using CmdResult = littoral::testing_support::CommandResult;
+CmdResult run(const std::string& args) { return littoral::testing_support::runLittoral("-q " + args); }
 
 fs::path tempDir() {
     const fs::path d = fs::temp_directory_path() / ("littoral_waves_cli_" + std::to_string(::getpid()));

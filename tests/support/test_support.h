@@ -1,0 +1,39 @@
+#pragma once
+// Helpers shared by the test programs: scratch directories and running the `littoral` binary.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace littoral::testing_support {
+
+// A fresh, empty directory for one test: <build>/test_scratch/<group>/<name>.
+inline std::filesystem::path scratchDir(const std::string& group, const std::string& name) {
+    const std::filesystem::path d = std::filesystem::path(LITTORAL_BINARY_DIR) / "test_scratch" / group / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+inline std::filesystem::path littoralBinary() { return std::filesystem::path(LITTORAL_BINARY_DIR) / "bin" / "littoral"; }
+
+struct CommandResult {
+    int status = -1;     // exit status, -1 if the command did not exit normally
+    std::string output;  // stdout and stderr together
+};
+
+// Runs `littoral ARGS` and captures its exit status and output.
+inline CommandResult runLittoral(const std::string& args) {
+    CommandResult r;
+    const std::string cmd = littoralBinary().string() + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+}  // namespace littoral::testing_support
