@@ -98,6 +98,12 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     p.phase = n.getDouble("phase", p.phase, -WaveLimits::kMaxSize, WaveLimits::kMaxSize, "m");
     p.time = n.getDouble("time", p.time, 0.0, WaveLimits::kMaxTime, "s");
     p.depth = n.getDouble("depth", p.depth, 0.0, WaveLimits::kMaxDepth, "m");
+    // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
+    // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
+    if (!n.has("triangles")) {
+        const surfaces::GridSize g = surfaces::gridSizeFor(p);
+        if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;
+    }
 
     // Checks on the combination (memory, triangle target, resolution). Report them at the key
     // they name when that key is in the file, else at the section.
