@@ -10,6 +10,8 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include "bathymetry/terrain.h"
 #include "core/error.h"
 
@@ -26,20 +28,9 @@ fs::path tempDir() {
 }
 
 fs::path writeText(const std::string& name, const std::string& text) {
-    const fs::path p = tempDir() / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
+    return littoral::testing_support::writeTextFile(tempDir(), name, text);
 }
-
-// The message of the InputError thrown by f, or "" if none was thrown.
-template <class F> std::string inputErrorOf(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
+using littoral::testing_support::inputErrorOf;
 
 // A minimal single-strip TIFF writer with optional GeoTIFF tags (TIFF 6.0 + GeoTIFF 1.1), so the
 // tests control every tag. sampleFormat 3 = IEEE float (32 bit), 2 = signed integer (16 bit).

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 #include "bathymetry/geo_frame.h"
 #include "bathymetry/terrain.h"
 #include "core/error.h"
@@ -22,21 +24,10 @@ using littoral::RandomStream;
 namespace {
 
 fs::path writeText(const std::string& name, const std::string& text) {
-    const fs::path d = fs::path(::testing::TempDir()) / "littoral_bathymetry_soundings";
-    fs::create_directories(d);
-    const fs::path p = d / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
+    return littoral::testing_support::writeTextFile(fs::path(::testing::TempDir()) / "littoral_bathymetry_soundings",
+                                                    name, text);
 }
-
-template <class F> std::string inputErrorOf(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
+using littoral::testing_support::inputErrorOf;
 
 // Seabed plane used as the reference field: z = -8 + 0.006 x - 0.004 y (metres); below the water
 // (z < 0) for |x|, |y| < 500 m since 0.006 * 500 + 0.004 * 500 = 5 < 8.

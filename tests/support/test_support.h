@@ -4,7 +4,10 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
+
+#include "core/error.h"
 
 namespace littoral::testing_support {
 
@@ -14,6 +17,25 @@ inline std::filesystem::path scratchDir(const std::string& group, const std::str
     std::filesystem::remove_all(d);
     std::filesystem::create_directories(d);
     return d;
+}
+
+// Writes `text` to `dir / name` (binary, exactly as given) and returns the path.
+inline std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
+                                           const std::string& text) {
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path p = dir / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+}
+
+// The message of the InputError thrown by f, or "" if none was thrown.
+template <class F> std::string inputErrorOf(F&& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
 }
 
 inline std::filesystem::path littoralBinary() { return std::filesystem::path(LITTORAL_BINARY_DIR) / "bin" / "littoral"; }
