@@ -17,6 +17,7 @@ littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
     cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
     cmd->add_option("--seed", o->seed, "Seed of the synthetic site and the render")->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         o->progress = !littoral::globalOptions().quiet;
         const auto summary = littoral::pipelines::runDemo(*o);

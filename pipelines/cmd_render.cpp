@@ -10,6 +10,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "pipelines/command_registry.h"
+#include "pipelines/lib_scene.h"
 #include "render/render_job.h"
 
 namespace {
@@ -17,6 +18,7 @@ namespace {
 struct RenderCmdOptions {
     std::string irDir, outDir, sensor;
     int threads = 0;
+    littoral::render::PreviewOptions preview;
 };
 
 littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
@@ -26,10 +28,12 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
     cmd->add_option("--out", o->outDir, "Output directory")->required();
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         littoral::render::RenderJobOptions jo;
         jo.sensor = o->sensor;
         jo.threads = o->threads;
+        jo.preview = o->preview;
         jo.progress = !littoral::globalOptions().quiet;
         littoral::Progress::setEnabled(jo.progress);
         const auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);

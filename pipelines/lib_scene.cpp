@@ -33,6 +33,20 @@ std::string checkScene(const fs::path& sceneFile) {
     return s;
 }
 
+void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview) {
+    cmd->add_option("--gamma", preview->gamma, "PNG preview display gamma (the dissertation's images use 0.65)")
+        ->check(CLI::Range(0.05, 5.0))
+        ->capture_default_str();
+    cmd->add_option("--white", preview->whiteLevel,
+                    "PNG preview white level, W m^-2 sr^-1 um^-1 (0 = the 99th percentile of the image)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--blur", preview->blurSigma,
+                    "Gaussian sensor blur of the PNG preview, sigma in pixels (0 = none; the dissertation's kernel is 0.636)")
+        ->check(CLI::Range(0.0, 50.0))
+        ->capture_default_str();
+}
+
 std::string runScene(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
@@ -42,6 +56,7 @@ std::string runScene(const RunOptions& o) {
     jo.sensor = o.sensor;
     jo.threads = o.threads;
     jo.progress = o.progress;
+    jo.preview = o.preview;
     const auto res = render::runRenderJob(built.ir, irDir, out, jo);
     const auto t2 = std::chrono::steady_clock::now();
     std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
@@ -62,6 +77,7 @@ std::string runDemo(const DemoOptions& o) {
     ro.out = o.out;
     ro.threads = o.threads;
     ro.progress = o.progress;
+    ro.preview = o.preview;
     std::string s = fmt::format("wrote the synthetic coastal site (seed {}) -> {}\n", o.seed, site.sceneFile.string());
     return s + runScene(ro);
 }

@@ -4,7 +4,14 @@
 #include <filesystem>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
+#include "render/image_output.h"
+
 namespace littoral::pipelines {
+
+// Adds --gamma, --white and --blur (the PNG preview's display mapping) to a subcommand.
+void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview);
 
 // Parses and validates every section of a scene file, including the geometry sections' own
 // parsers; throws InputError on the first mistake. Returns a short human-readable summary.
@@ -16,6 +23,7 @@ struct RunOptions {
     std::string sensor;   // "" = every sensor
     int threads = 0;
     bool progress = true;
+    render::PreviewOptions preview;
 };
 // Builds `scene` into out/ir and renders it into out. Returns a summary of what was written.
 std::string runScene(const RunOptions& options);
@@ -25,6 +33,12 @@ struct DemoOptions {
     uint64_t seed = 2010;
     int threads = 0;
     bool progress = true;
+    // The dissertation's Ch. 10 post-processing: gamma 0.65, then its Gaussian kernel.
+    render::PreviewOptions preview = [] {
+        render::PreviewOptions p;
+        p.blurSigma = render::kDissertationBlurSigma;
+        return p;
+    }();
 };
 // Writes the synthetic coastal site into out/site and runs it (runScene) into out.
 std::string runDemo(const DemoOptions& options);

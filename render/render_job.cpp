@@ -52,7 +52,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         const auto base = outDir / img.sensor;
         writeExr(base.string() + ".exr", img.film, meta);
         writeEnvi(base.string() + ".img", img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor));
-        PreviewOptions po;
+        PreviewOptions po = opts.preview;
         if (img.film.bandCount() < 3) po.mapping = PreviewOptions::Mapping::Grey;
         if (po.mapping == PreviewOptions::Mapping::Grey) po.greyUm = img.film.bands[0].center();
         writePngPreview(base.string() + ".png", img.film, po);

@@ -17,6 +17,7 @@
 
 #include "core/scene_ir.h"
 #include "render/probes.h"
+#include "render/image_output.h"
 #include "render/renderer.h"
 
 namespace littoral::render {
@@ -25,6 +26,7 @@ struct RenderJobOptions {
     std::string sensor;    // render only this sensor ("" = all)
     int threads = 0;       // 0 = all cores
     bool progress = true;
+    PreviewOptions preview;  // PNG display mapping: gamma, white level, Gaussian blur (image_output.h)
 };
 
 struct RenderJobResult {

@@ -136,3 +136,13 @@ TEST_F(Cli, RunWithBadInputLeavesNoOutput) {
     EXPECT_FALSE(fs::exists(dir / "out" / "nadir.exr"));
     EXPECT_FALSE(fs::exists(dir / "out" / "probes.csv"));
 }
+
+// Preview options are range-checked before anything runs: exit 1 naming the option.
+TEST_F(Cli, PreviewOptionsAreChecked) {
+    const auto r = run("render /nonexistent --out /tmp/x --gamma 0");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("--gamma"), std::string::npos) << r.output;
+    const auto b = run("run /nonexistent.yaml --out /tmp/x --blur -1");
+    EXPECT_EQ(b.status, 1);
+    EXPECT_NE(b.output.find("--blur"), std::string::npos) << b.output;
+}
