@@ -53,9 +53,7 @@ TEST(CheckerboardRefraction, MatchesAnalyticRayCaster) {
         s.sensors.push_back(pinhole("nadir", {ref.camera.x, ref.camera.y, ref.camera.z}, {0, 0, -1}, {0, 1, 0},
                                     ref.width, ref.height, ref.focalLength, ref.pixelPitch));
         const Scene scene(s, ".");
-        RenderOptions o;
-        o.progress = false;
-        const SensorImage img = renderSensor(scene, s.sensors[0], o);
+        const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
 
         // Binarisation: a dark check returns only the sky reflected by the water surface,
         // r_f/pi <= 0.0092 for the incidences in view (< 5 deg: 0.0067); a white check returns at

@@ -16,12 +16,6 @@ namespace {
 using namespace testing;
 using M = ir::Material;
 
-RenderOptions quiet() {
-    RenderOptions o;
-    o.progress = false;
-    return o;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Test A (§4.1): a 10 m water hemisphere on a black ground under a uniform sky (E_h = 1,
 // L_sky = 1/pi), nadir pinhole camera on the axis at H = 30 m. Per pixel (centre ray at angle
@@ -240,9 +234,7 @@ TEST(InterfaceRadiometry, PlanarSunGlintExact) {
     const double f = 0.1, pitch = 0.1 * std::tan(deg2rad(0.053));
     s.sensors.push_back(pinhole("nadir", {0, 0, 1}, {0, 0, -1}, {0, 1, 0}, W, W, f, pitch));
     const Scene scene(s, ".");
-    RenderOptions o;
-    o.progress = false;
-    const SensorImage img = renderSensor(scene, s.sensors[0], o);
+    const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
     const double half = s.sun.halfAngle, omega = 2 * kPi * (1 - std::cos(half));
     int glintRow = 0;
     for (int j = 0; j < W; ++j)
@@ -292,9 +284,7 @@ TEST(InterfaceRadiometry, RefractedSunOnSubmergedBottom) {
     const double f = 0.01, pitch = 1e-4;
     s.sensors.push_back(pinhole("nadir", {0, 0, 10}, {0, 0, -1}, {0, 1, 0}, W, W, f, pitch));
     const Scene scene(s, ".");
-    RenderOptions o;
-    o.progress = false;
-    const SensorImage img = renderSensor(scene, s.sensors[0], o);
+    const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
     const double thSw = std::asin(std::sin(thS) / n);
     const double Lb = r / kPi * (1 - fresnelEq42(thS, 1, n)) * Es * std::cos(thS) * std::exp(-c * D / std::cos(thSw));
     // Each pixel uses one uniformly sampled point of the disc (half-angle a = 0.265 deg): cos theta_s
@@ -348,9 +338,7 @@ TEST(InterfaceRadiometry, DispersiveSnellWindowPerBandAndTruth) {
                               "", true));
     s.sensors.push_back(pinhole("up", {0, 0, -z}, {0, 0, 1}, {0, 1, 0}, W, W, f, pitch, "water"));
     const Scene scene(s, ".");
-    RenderOptions o;
-    o.progress = false;
-    const SensorImage img = renderSensor(scene, s.sensors[0], o);
+    const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
     const double nBand[2] = {1.335, 1.345};
     int differentEdge = 0;
     for (int j = 0; j < W; ++j)

@@ -25,13 +25,6 @@ namespace {
 using namespace testing;
 using M = ir::Material;
 
-RenderOptions quiet(int threads = 0) {
-    RenderOptions o;
-    o.progress = false;
-    o.threads = threads;
-    return o;
-}
-
 // ---- optics ---------------------------------------------------------------------------------
 
 TEST(Fresnel, MatchesEq42AndPublishedValues) {
@@ -366,9 +359,7 @@ TEST(Textured, PlanViewLookupAndOrientation) {
     s.meshes.push_back(meshOf("ground", plane(-10, 10, -10, 10, 0), {"sand"}));
     s.sensors.push_back(ortho("o", {2, 1, 5}, {0, 0, -1}, {0, 1, 0}, 4, 2, 1.0));
     const Scene scene(s, dir);
-    RenderOptions o;
-    o.progress = false;
-    const SensorImage img = renderSensor(scene, s.sensors[0], o);
+    const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
     for (int j = 0; j < 2; ++j)
         for (int i = 0; i < 4; ++i)
             EXPECT_NEAR(img.film.at(i, j, 0), 0.8 * texels[j * 4 + i] / 255.0 / kPi, 1e-7) << i << "," << j;

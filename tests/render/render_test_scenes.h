@@ -8,8 +8,17 @@
 #include "core/mesh.h"
 #include "core/scene_ir.h"
 #include "core/units.h"
+#include "render/renderer.h"
 
 namespace littoral::render::testing {
+
+// Render options for tests: no progress bar; threads = 0 uses all cores.
+inline RenderOptions quiet(int threads = 0) {
+    RenderOptions o;
+    o.progress = false;
+    o.threads = threads;
+    return o;
+}
 
 // Flips triangles whose normal points toward `inside` (a point inside a convex shape) so every
 // face is CCW seen from outside.

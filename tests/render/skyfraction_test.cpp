@@ -16,12 +16,6 @@ namespace {
 using namespace testing;
 using M = ir::Material;
 
-RenderOptions quiet() {
-    RenderOptions o;
-    o.progress = false;
-    return o;
-}
-
 // Eq. 6.1 closed form for an obstruction of constant elevation theta_h over azimuth width phi_w.
 double skyFractionEq61(double phiW, double thetaH) { return 1.0 - phiW * sqr(std::sin(thetaH)) / (2 * kPi); }
 
