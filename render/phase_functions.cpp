@@ -17,6 +17,7 @@ namespace {
 
 constexpr double kInv4Pi = 1.0 / (4.0 * kPi);
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kGuessLogLo = -37.0;  // ~ ln 2^-53: the smallest sampling target u or 1 - u
 
 double clamp01(double u) { return std::clamp(u, 0.0, 1.0); }
 
@@ -65,10 +66,10 @@ template <class F> double safeguardedNewton(F&& f, double lo, double hi, double 
         if (fx == 0) return x;
         if (fx > 0) hi = x;
         else lo = x;
-        if (std::abs(fx) < 1e-15) return x;
+        if (std::abs(fx) < 1e-14) return x;
         double xn = x - fx / dfx;
         if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
-        if (std::abs(xn - x) <= 1e-15 * std::max(1.0, std::abs(x)) || hi - lo <= 1e-15 * std::max(1.0, std::abs(x)))
+        if (std::abs(xn - x) <= 1e-14 * std::max(1.0, std::abs(x)) || hi - lo <= 1e-14 * std::max(1.0, std::abs(x)))
             return xn;
         x = xn;
     }
@@ -255,6 +256,18 @@ FournierForand::FournierForand(double mu, double n) : n_(n), mu_(mu) {
         s += gauss20().integrate([&](double y) { return forwardFraction(2.0 * std::exp(y)) * 2.0 * std::exp(y); },
                                  -60.0 + i, -59.0 + i);
     meanCosine_ = s - 1.0;
+    // Starting points for sampling (see initialGuess).
+    auto table = std::make_shared<std::array<double, 2 * kGuessNodes>>();
+    for (int branch = 0; branch < 2; ++branch)
+        for (int i = 0; i < kGuessNodes; ++i) {
+            const bool forward = branch == 0;
+            const double top = forward ? std::log1p(-backscatter_) : std::log(backscatter_);
+            const double logTarget = kGuessLogLo + (top - kGuessLogLo) * i / (kGuessNodes - 1);
+            const double t = solveOneMinusCos(forward, logTarget, initialGuess(forward, logTarget));
+            (*table)[static_cast<size_t>(branch * kGuessNodes + i)] =
+                forward ? logHalfDelta180_ + std::log(t) : std::log(2.0 - t);
+        }
+    guess_ = std::move(table);
 }
 
 FournierForand FournierForand::fromSlope(double mu, double n) {
@@ -317,56 +330,82 @@ double FournierForand::forwardFraction(double t) const {
     return 1.0 - ((1.0 - s) * e - tail);
 }
 
-double FournierForand::backwardFraction(double t) const {
+double FournierForand::backwardFraction(double t) const { return backwardFraction(t, 2.0 - t); }
+
+// The same with 2 - t given separately (exact when it comes from the sampler's w = ln(2 - t)),
+// so that G ~ (2 - t) keeps its relative precision next to straight back.
+double FournierForand::backwardFraction(double t, double twoMinusT) const {
     if (!(t > 0.0)) return 1.0;
-    if (t >= 2.0) return 0.0;
+    if (!(twoMinusT > 0.0)) return 0.0;
     const double x = logHalfDelta180_ + std::log(t);
     if (x < -1.0) return 1.0 - forwardFraction(t);
-    const double s = 0.5 * t, c = 1.0 - t;
-    const double tail = 0.125 * kappa_ * c * t * (2.0 - t);
+    const double oneMinusS = 0.5 * twoMinusT, c = twoMinusT - 1.0;
+    const double tail = 0.125 * kappa_ * c * t * twoMinusT;
     const double e = x == 0.0 ? -nu_ : std::expm1(-nu_ * x) / std::expm1(x);
-    return (1.0 - s) * e - tail;
+    return oneMinusS * e - tail;
 }
 
 double FournierForand::forwardConeFraction(double c0) const { return forwardFraction(1.0 - std::clamp(c0, -1.0, 1.0)); }
 double FournierForand::invertCos(double c) const { return backwardFraction(1.0 - std::clamp(c, -1.0, 1.0)); }
 
-// Solves G(t) = u, i.e. P(cos <= c) = u, in x = ln d = ln(d180 t / 2). In x the forward fraction
-// behaves like e^{-nu x} as x -> -inf and the backward fraction like (x_max - x) near x_max, so
-// Newton on ln Q (targets u > 1/2) or on ln G (u <= 1/2) converges in a few steps; dQ/dx =
-// 2 pi p(t) t. The search stops at t = 1e-300 (x_lo), below which Q < 2^-53 for mu >= 3.11.
+// Solves G(t) = u, i.e. P(cos <= c) = u, by Newton iteration on the log of the smaller tail:
+//  * forward targets (u > B, so cos > 0): ln Q = ln(1 - u) in x = ln d = ln(d180 t / 2); Q
+//    behaves like e^{-nu x} as x -> -inf, so ln Q is nearly linear in x; dQ/dx = 2 pi p(t) t;
+//  * backward targets (u <= B, cos <= 0): ln G = ln u in w = ln(2 - t); G behaves like (2 - t)
+//    near straight back, so ln G is nearly linear in w; dG/dw = 2 pi p(t) (2 - t).
+// The forward search stops at t = 1e-300, below which Q < 2^-53 for mu >= 3.11. Starting points
+// come from a 129-node table of the solution against the log-target (built at construction);
+// from there two or three safeguarded Newton steps reach the 1e-14 stopping tolerance.
+double FournierForand::initialGuess(bool forward, double logTarget) const {
+    const double xHi = std::log(delta180_), xLo = logHalfDelta180_ + std::log(1e-300);
+    const double wLo = std::log(1e-300), wHi = std::log(2.0);
+    const double lo = forward ? xLo : wLo, hi = forward ? xHi : wHi;
+    double v;
+    if (guess_) {
+        const double top = forward ? std::log1p(-backscatter_) : std::log(backscatter_);
+        const double pos = std::clamp((logTarget - kGuessLogLo) / (top - kGuessLogLo) * (kGuessNodes - 1), 0.0,
+                                      kGuessNodes - 1.0);
+        const int i = std::min(static_cast<int>(pos), kGuessNodes - 2);
+        const double* g = guess_->data() + (forward ? 0 : kGuessNodes);
+        v = g[i] + (pos - i) * (g[i + 1] - g[i]);
+    } else if (forward) {
+        v = logTarget / -nu_;  // Q ~ d^-nu far forward
+    } else {
+        // Near straight back G ~ (1 - s)(E(x_max) + kappa/2) = (2 - t)(E(x_max) + kappa/2)/2.
+        const double slopeBack = 0.5 * (std::expm1(-nu_ * xHi) / std::expm1(xHi) + 0.5 * kappa_);
+        v = std::min(logTarget - std::log(slopeBack), wHi - 1e-3);
+    }
+    return std::clamp(v, lo + 1e-9, hi - 1e-12);
+}
+
+double FournierForand::solveOneMinusCos(bool forward, double logTarget, double v0) const {
+    if (forward) {
+        const double xHi = std::log(delta180_), xLo = logHalfDelta180_ + std::log(1e-300);
+        auto tOf = [&](double x) { return std::min(2.0, std::exp(x - logHalfDelta180_)); };
+        if (std::log(forwardFraction(tOf(xLo))) >= logTarget) return tOf(xLo);
+        auto f = [&](double x, double* fx, double* dfx) {
+            const double t = tOf(x), q = forwardFraction(t);
+            *fx = std::log(q) - logTarget;
+            *dfx = 2.0 * kPi * evalOneMinusCos(t) * t / q;
+        };
+        return tOf(safeguardedNewton(f, xLo, xHi, v0));
+    }
+    const double wLo = std::log(1e-300), wHi = std::log(2.0);
+    auto tOf = [](double w) { return std::clamp(2.0 - std::exp(w), 0.0, 2.0); };
+    auto f = [&](double w, double* fx, double* dfx) {
+        const double t = tOf(w), g = backwardFraction(t, std::exp(w));
+        *fx = std::log(g) - logTarget;
+        *dfx = 2.0 * kPi * evalOneMinusCos(t) * std::exp(w) / g;
+    };
+    return tOf(safeguardedNewton(f, wLo, wHi, v0));
+}
+
 double FournierForand::sampleOneMinusCos(double u) const {
     u = clamp01(u);
     if (u <= 0.0) return 2.0;
-    const double xHi = std::log(delta180_);  // t = 2
-    const double xLo = logHalfDelta180_ + std::log(1e-300);
-    auto tOf = [&](double x) { return std::min(2.0, std::exp(x - logHalfDelta180_)); };
-    const bool forward = u > 0.5;
+    const bool forward = u > backscatter_;
     const double logTarget = forward ? std::log1p(-u) : std::log(u);
-    auto f = [&](double x, double* fx, double* dfx) {
-        const double t = tOf(x);
-        const double slope = 2.0 * kPi * evalOneMinusCos(t) * t;
-        if (forward) {
-            const double q = forwardFraction(t);
-            *fx = std::log(q) - logTarget;
-            *dfx = slope / q;
-        } else {
-            const double g = backwardFraction(t);
-            *fx = logTarget - std::log(g);
-            *dfx = slope / g;
-        }
-    };
-    double x0;
-    if (forward) {
-        if (forwardFraction(tOf(xLo)) >= 1.0 - u) return tOf(xLo);
-        x0 = logTarget / -nu_;  // Q ~ d^-nu far forward
-    } else {
-        // Near straight back G ~ (1 - s)(E(x_max) + kappa/2).
-        const double slopeBack = std::expm1(-nu_ * xHi) / std::expm1(xHi) + 0.5 * kappa_;
-        x0 = xHi + std::log(std::max(1e-3, 1.0 - u / slopeBack));
-    }
-    x0 = std::clamp(x0, xLo + 1e-9, xHi - 1e-12);
-    return tOf(safeguardedNewton(f, xLo, xHi, x0));
+    return solveOneMinusCos(forward, logTarget, initialGuess(forward, logTarget));
 }
 
 double FournierForand::sampleCos(double u) const {

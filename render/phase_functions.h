@@ -96,8 +96,8 @@ struct RayleighLikePhase {
 // fraction is
 //   B = 1 - [1 - d90^(nu+1) - (1 - d90^nu)/2] / [(1 - d90) d90^nu].
 // Both d -> 1 (a removable singularity near psi ~ 10 deg for n = 1.10) and d -> 0 are evaluated
-// without cancellation. Sampling inverts the CDF by safeguarded Newton iteration in log d (about
-// five iterations), to 1e-14 in the cumulative probability.
+// without cancellation. Sampling inverts the CDF by safeguarded Newton iteration on the log of
+// the smaller tail, from a tabulated starting point, to 1e-14 in the cumulative probability.
 class FournierForand {
 public:
     // Solves B(mu, n) = backscatterFraction for mu in (3, 5]. Throws InputError when B or n is
@@ -128,8 +128,16 @@ public:
 
 private:
     FournierForand(double mu, double n);
+    double backwardFraction(double t, double twoMinusT) const;
+    double solveOneMinusCos(bool forward, double logTarget, double v0) const;
+    double initialGuess(bool forward, double logTarget) const;
     double n_ = 1.10, mu_ = 3.5, nu_ = -0.25, delta180_ = 1, logHalfDelta180_ = 0, kappa_ = 0;
     double backscatter_ = 0, meanCosine_ = 0;
+    // The solution at 129 equally spaced log-targets: ln d for ln(1-u) in [-37, ln(1-B)]
+    // (forward) and ln(2 - t) for ln u in [-37, ln B] (backward). Built once; Newton starts from
+    // its interpolant.
+    static constexpr int kGuessNodes = 129;
+    std::shared_ptr<const std::array<double, 2 * kGuessNodes>> guess_;
 };
 
 // A phase function tabulated in scattering angle psi (degrees) with sr^-1 values, e.g. Petzold's.
