@@ -77,12 +77,7 @@ const ir::SceneIR& benchScene() {
         s.sun.zenith = deg2rad(30);
         s.sun.irradiance = Spectrum::constant(0.5);
         s.sky.radiance = Spectrum::constant(0.5 / kPi);
-        ir::Medium w;
-        w.name = "water";
-        w.refractiveIndex = Spectrum::constant(1.34);
-        w.absorption = Spectrum::constant(0.05);
-        w.scattering = Spectrum::constant(0.09);
-        s.media.push_back(w);
+        s.media.push_back(ir::Medium::homogeneous("water", 1.34, Spectrum::constant(0.05), Spectrum::constant(0.09)));
         M water;
         water.name = "water";
         water.type = M::Type::Dielectric;

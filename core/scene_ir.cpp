@@ -38,41 +38,54 @@ const Mesh* SceneIR::findMesh(const std::string& n) const {
     return nullptr;
 }
 
+Medium Medium::homogeneous(std::string name, double n, Spectrum a, Spectrum b, PhaseFunction phase) {
+    Medium m;
+    m.name = std::move(name);
+    m.refractiveIndex = Spectrum::constant(n);
+    m.layers[0].absorption = std::move(a);
+    if (!(b.isConstant() && b.values()[0] == 0.0)) m.layers[0].scatterers.push_back({"particles", std::move(b), phase});
+    return m;
+}
+
+std::string checkLayers(const Medium& m) {
+    if (m.layers.empty()) return "a medium needs at least one layer";
+    if (m.layers.front().zTop != kInfinity) return "the first layer must reach up without limit (z_top_m null)";
+    if (m.layers.back().zBottom != -kInfinity) return "the last layer must reach down without limit (z_bottom_m null)";
+    for (size_t i = 0; i < m.layers.size(); ++i) {
+        const Layer& l = m.layers[i];
+        if (!(l.zTop > l.zBottom)) return fmt::format("layer {} is empty or inverted: top {} m, bottom {} m", i, l.zTop, l.zBottom);
+        if (i > 0 && m.layers[i - 1].zBottom != l.zTop)
+            return fmt::format("layers {} and {} leave a gap or overlap: layer {} ends at z = {} m, layer {} starts at "
+                               "z = {} m",
+                               i - 1, i, i - 1, m.layers[i - 1].zBottom, i, l.zTop);
+    }
+    return "";
+}
+
+const std::vector<RenderSettingKey>& renderSettingKeys() {
+    static const std::vector<RenderSettingKey> keys = {
+        {"max_bounces", "max_bounces", [](const RenderSettings& r) { return r.maxBounces.has_value(); }},
+        {"max_specular_depth", "max_specular_depth", [](const RenderSettings& r) { return r.maxSpecularDepth.has_value(); }},
+        {"hemisphere_samples", "hemisphere_samples", [](const RenderSettings& r) { return r.hemisphereSamples.has_value(); }},
+        {"probe_samples", "probe_samples", [](const RenderSettings& r) { return r.probeSamples.has_value(); }},
+        {"probe_batches", "probe_batches", [](const RenderSettings& r) { return r.probeBatches.has_value(); }},
+        {"surface_photons", "photons.surface", [](const RenderSettings& r) { return r.surfacePhotons.has_value(); }},
+        {"volume_photons", "photons.volume", [](const RenderSettings& r) { return r.volumePhotons.has_value(); }},
+        {"surface_search_radius_m", "search_radius_m.surface",
+         [](const RenderSettings& r) { return r.surfaceSearchRadius.has_value(); }},
+        {"volume_search_radius_m", "search_radius_m.volume",
+         [](const RenderSettings& r) { return r.volumeSearchRadius.has_value(); }},
+        {"march_step_m", "march_step_m", [](const RenderSettings& r) { return r.marchStep.has_value(); }},
+    };
+    return keys;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Writing
 
 namespace {
 
-const char* toString(PhaseFunction::Type t) {
-    switch (t) {
-        case PhaseFunction::Type::Isotropic: return "isotropic";
-        case PhaseFunction::Type::HenyeyGreenstein: return "henyey-greenstein";
-        case PhaseFunction::Type::Petzold: return "petzold";
-        case PhaseFunction::Type::Rayleigh: return "rayleigh";
-    }
-    return "?";
-}
-const char* toString(Material::Type t) {
-    switch (t) {
-        case Material::Type::Lambertian: return "lambertian";
-        case Material::Type::Textured: return "textured";
-        case Material::Type::Dielectric: return "dielectric";
-        case Material::Type::RoughDielectric: return "rough-dielectric";
-        case Material::Type::Black: return "black";
-    }
-    return "?";
-}
-const char* toString(Material::Solver s) {
-    switch (s) {
-        case Material::Solver::Classic: return "classic";
-        case Material::Solver::Generic: return "generic";
-        case Material::Solver::Fresnel: return "fresnel";
-        case Material::Solver::SurfacePM: return "surface-pm";
-    }
-    return "?";
-}
-const char* toString(Sensor::Type t) { return t == Sensor::Type::Pinhole ? "pinhole" : "orthographic"; }
-
+std::string nm(auto e) { return std::string(nameOf(e)); }
 Json spectrumJson(const Spectrum& s) {
     if (s.isConstant()) return Json(s.values().empty() ? 0.0 : s.values()[0]);
     Json j;
@@ -81,6 +94,15 @@ Json spectrumJson(const Spectrum& s) {
     return j;
 }
 Json vecJson(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
+// Infinite layer bounds are written as null (JSON has no infinity).
+Json boundJson(double z) { return std::isfinite(z) ? Json(z) : Json(nullptr); }
+Json phaseJson(const PhaseFunction& p) {
+    Json j = {{"type", nm(p.type)}};
+    if (p.type == PhaseFunction::Type::HenyeyGreenstein) j["g"] = p.g;
+    if (p.type == PhaseFunction::Type::FournierForand) j["backscatter_fraction"] = p.backscatterFraction;
+    if (p.type == PhaseFunction::Type::RayleighLike && p.k != 1.0) j["k"] = p.k;
+    return j;
+}
 
 }  // namespace
 
@@ -96,18 +118,25 @@ std::string toJsonText(const SceneIR& s) {
     const auto& r = s.render;
     Json bands = Json::array();
     for (const auto& b : r.bands) bands.push_back(Json::array({b.lo, b.hi}));
-    j["render"] = {{"bands_um", bands},
-                   {"seed", r.seed},
-                   {"threads", r.threads},
-                   {"max_bounces", r.maxBounces},
-                   {"max_specular_depth", r.maxSpecularDepth},
-                   {"hemisphere_samples", r.hemisphereSamples},
-                   {"probe_samples", r.probeSamples},
-                   {"surface_photons", r.surfacePhotons},
-                   {"volume_photons", r.volumePhotons},
-                   {"surface_search_radius_m", r.surfaceSearchRadius},
-                   {"volume_search_radius_m", r.volumeSearchRadius},
-                   {"march_step_m", r.marchStep}};
+    Json rj = {{"bands_um", bands}, {"seed", r.seed}, {"threads", r.threads}, {"estimator", nm(r.estimator)}};
+    // Optional settings: written only when set (unset = the estimator's default).
+    auto opt = [&](const char* key, const auto& v) {
+        if (v) rj[key] = *v;
+    };
+    opt("max_bounces", r.maxBounces);
+    opt("max_specular_depth", r.maxSpecularDepth);
+    opt("hemisphere_samples", r.hemisphereSamples);
+    opt("probe_samples", r.probeSamples);
+    opt("probe_batches", r.probeBatches);
+    opt("surface_photons", r.surfacePhotons);
+    opt("volume_photons", r.volumePhotons);
+    opt("surface_search_radius_m", r.surfaceSearchRadius);
+    opt("volume_search_radius_m", r.volumeSearchRadius);
+    opt("march_step_m", r.marchStep);
+    j["render"] = rj;
+    j["domain"] = {{"x_m", Json::array({s.domain.x0, s.domain.x1})},
+                   {"y_m", Json::array({s.domain.y0, s.domain.y1})},
+                   {"horizontal", s.domain.periodic ? "periodic" : "bounded"}};
     j["sun"] = {{"enabled", s.sun.enabled},
                 {"zenith_rad", s.sun.zenith},
                 {"azimuth_rad", s.sun.azimuth},
@@ -116,20 +145,26 @@ std::string toJsonText(const SceneIR& s) {
     j["sky"] = {{"radiance", spectrumJson(s.sky.radiance)}};
 
     Json media = Json::array();
-    for (const auto& m : s.media)
-        media.push_back({{"name", m.name},
-                         {"refractive_index", spectrumJson(m.refractiveIndex)},
-                         {"absorption_per_m", spectrumJson(m.absorption)},
-                         {"scattering_per_m", spectrumJson(m.scattering)},
-                         {"phase", {{"type", toString(m.phase.type)}, {"g", m.phase.g}}}});
+    for (const auto& m : s.media) {
+        Json layers = Json::array();
+        for (const auto& l : m.layers) {
+            Json sc = Json::array();
+            for (const auto& c : l.scatterers)
+                sc.push_back({{"name", c.name}, {"scattering_per_m", spectrumJson(c.scattering)}, {"phase", phaseJson(c.phase)}});
+            layers.push_back({{"z_top_m", boundJson(l.zTop)},
+                              {"z_bottom_m", boundJson(l.zBottom)},
+                              {"absorption_per_m", spectrumJson(l.absorption)},
+                              {"scatterers", sc}});
+        }
+        media.push_back({{"name", m.name}, {"refractive_index", spectrumJson(m.refractiveIndex)}, {"layers", layers}});
+    }
     j["media"] = media;
 
     Json mats = Json::array();
     for (const auto& m : s.materials) {
-        Json mj = {{"name", m.name},
-                   {"type", toString(m.type)},
-                   {"solver", toString(m.solver)},
-                   {"reflectance", spectrumJson(m.reflectance)}};
+        Json mj = {{"name", m.name}, {"type", nm(m.type)}};
+        if (m.solver) mj["solver"] = nm(*m.solver);
+        mj["reflectance"] = spectrumJson(m.reflectance);
         if (m.type == Material::Type::Textured)
             mj["texture"] = {{"file", m.texture},
                              {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
@@ -161,7 +196,7 @@ std::string toJsonText(const SceneIR& s) {
     Json sensors = Json::array();
     for (const auto& c : s.sensors) {
         Json cj = {{"name", c.name},
-                   {"type", toString(c.type)},
+                   {"type", nm(c.type)},
                    {"position_m", vecJson(c.position)},
                    {"forward", vecJson(c.forward)},
                    {"up", vecJson(c.up)},
@@ -180,11 +215,11 @@ std::string toJsonText(const SceneIR& s) {
     j["sensors"] = sensors;
 
     Json probes = Json::array();
-    for (const auto& p : s.probes)
-        probes.push_back({{"name", p.name},
-                          {"position_m", vecJson(p.position)},
-                          {"quantities", p.quantities},
-                          {"medium", p.medium}});
+    for (const auto& p : s.probes) {
+        Json pj = {{"name", p.name}, {"position_m", vecJson(p.position)}, {"quantities", p.quantities}, {"medium", p.medium}};
+        if (p.samples) pj["samples"] = *p.samples;
+        probes.push_back(pj);
+    }
     j["probes"] = probes;
     return j.dump(2) + "\n";
 }
@@ -276,16 +311,21 @@ public:
         expectKeys({"wavelengths_um", "values"});
         return Spectrum::tabulated((*this)["wavelengths_um"].nums(), (*this)["values"].nums(), file_ + ": " + path_);
     }
-    template <class E>
-    E choice(const std::vector<std::pair<std::string, E>>& options) const {
+    template <class E> E choice() const {
         const std::string s = str();
-        std::vector<std::string> names;
-        for (const auto& [n, e] : options) {
-            if (n == s) return e;
-            names.push_back(n);
-        }
-        fail(fmt::format("unknown value '{}' (allowed: {})", s, joinList(names)));
+        if (auto e = parseName<E>(s)) return *e;
+        const auto names = allNames<E>();
+        std::string m = fmt::format("unknown {} '{}' (allowed: {})", EnumNames<E>::what, s, joinList(names));
+        const auto near = closestMatch(s, names);
+        if (!near.empty()) m += fmt::format("; did you mean '{}'?", near);
+        fail(m);
     }
+    // A layer bound: a number, or null for "without limit" (`inf` is the value returned for null).
+    double bound(double inf) const {
+        if (j_.is_null()) return inf;
+        return num();
+    }
+    JReader get(const std::string& k) const { return (*this)[k]; }
 
 private:
     const Json& j_;
@@ -303,8 +343,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         throw InputError(SourceLoc{file}, std::string("not valid JSON: ") + e.what());
     }
     JReader r(j, "", file);
-    r.expectKeys({"format", "version", "name", "metadata", "render", "sun", "sky", "media", "materials", "meshes",
-                  "instances", "sensors", "probes"});
+    r.expectKeys({"format", "version", "name", "metadata", "render", "domain", "sun", "sky", "media", "materials",
+                  "meshes", "instances", "sensors", "probes"});
     if (r["format"].str() != "littoral-scene-ir") r["format"].fail("expected \"littoral-scene-ir\"");
     if (r["version"].integer() != kFormatVersion)
         r["version"].fail(fmt::format("this Littoral reads IR version {}", kFormatVersion));
@@ -317,9 +357,9 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     }
     {
         auto rr = r["render"];
-        rr.expectKeys({"bands_um", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
-                       "probe_samples", "surface_photons",
-                       "volume_photons", "surface_search_radius_m", "volume_search_radius_m", "march_step_m"});
+        std::vector<std::string> keys = {"bands_um", "seed", "threads", "estimator"};
+        for (const auto& k : renderSettingKeys()) keys.push_back(k.irKey);
+        rr.expectKeys(keys);
         s.render.bands.clear();
         auto bands = rr["bands_um"];
         for (size_t i = 0; i < bands.size(); ++i) {
@@ -329,15 +369,44 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         }
         s.render.seed = rr["seed"].uinteger();
         s.render.threads = static_cast<int>(rr["threads"].integer());
-        s.render.maxBounces = static_cast<int>(rr["max_bounces"].integer());
-        s.render.maxSpecularDepth = static_cast<int>(rr["max_specular_depth"].integer());
-        s.render.hemisphereSamples = static_cast<int>(rr["hemisphere_samples"].integer());
-        s.render.probeSamples = static_cast<int>(rr["probe_samples"].integer());
-        s.render.surfacePhotons = rr["surface_photons"].uinteger();
-        s.render.volumePhotons = rr["volume_photons"].uinteger();
-        s.render.surfaceSearchRadius = rr["surface_search_radius_m"].num();
-        s.render.volumeSearchRadius = rr["volume_search_radius_m"].num();
-        s.render.marchStep = rr["march_step_m"].num();
+        s.render.estimator = rr["estimator"].choice<Estimator>();
+        auto optInt = [&](const char* k, std::optional<int>* out) {
+            if (!rr.has(k)) return;
+            const int64_t v = rr[k].integer();
+            if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+                rr[k].fail("integer out of range");
+            *out = static_cast<int>(v);
+        };
+        auto optU64 = [&](const char* k, std::optional<uint64_t>* out) {
+            if (rr.has(k)) *out = rr[k].uinteger();
+        };
+        auto optNum = [&](const char* k, std::optional<double>* out) {
+            if (rr.has(k)) *out = rr[k].num();
+        };
+        optInt("max_bounces", &s.render.maxBounces);
+        optInt("max_specular_depth", &s.render.maxSpecularDepth);
+        optInt("hemisphere_samples", &s.render.hemisphereSamples);
+        optInt("probe_samples", &s.render.probeSamples);
+        optInt("probe_batches", &s.render.probeBatches);
+        optU64("surface_photons", &s.render.surfacePhotons);
+        optU64("volume_photons", &s.render.volumePhotons);
+        optNum("surface_search_radius_m", &s.render.surfaceSearchRadius);
+        optNum("volume_search_radius_m", &s.render.volumeSearchRadius);
+        optNum("march_step_m", &s.render.marchStep);
+    }
+    {
+        auto d = r["domain"];
+        d.expectKeys({"x_m", "y_m", "horizontal"});
+        const auto x = d["x_m"].nums(), y = d["y_m"].nums();
+        if (x.size() != 2 || !(x[1] > x[0])) d["x_m"].fail("expected [min, max] with min < max");
+        if (y.size() != 2 || !(y[1] > y[0])) d["y_m"].fail("expected [min, max] with min < max");
+        s.domain.x0 = x[0];
+        s.domain.x1 = x[1];
+        s.domain.y0 = y[0];
+        s.domain.y1 = y[1];
+        const std::string h = d["horizontal"].str();
+        if (h != "bounded" && h != "periodic") d["horizontal"].fail("expected \"bounded\" or \"periodic\", found '" + h + "'");
+        s.domain.periodic = h == "periodic";
     }
     {
         auto sun = r["sun"];
@@ -354,19 +423,44 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     auto media = r["media"];
     for (size_t i = 0; i < media.size(); ++i) {
         auto m = media.at(i);
-        m.expectKeys({"name", "refractive_index", "absorption_per_m", "scattering_per_m", "phase"});
+        m.expectKeys({"name", "refractive_index", "layers"});
         Medium md;
         md.name = m["name"].str();
         md.refractiveIndex = m["refractive_index"].spectrum();
-        md.absorption = m["absorption_per_m"].spectrum();
-        md.scattering = m["scattering_per_m"].spectrum();
-        auto ph = m["phase"];
-        ph.expectKeys({"type", "g"});
-        md.phase.type = ph["type"].choice<PhaseFunction::Type>({{"isotropic", PhaseFunction::Type::Isotropic},
-                                                                {"henyey-greenstein", PhaseFunction::Type::HenyeyGreenstein},
-                                                                {"petzold", PhaseFunction::Type::Petzold},
-                                                                {"rayleigh", PhaseFunction::Type::Rayleigh}});
-        md.phase.g = ph["g"].num();
+        md.layers.clear();
+        auto layers = m["layers"];
+        for (size_t li = 0; li < layers.size(); ++li) {
+            auto l = layers.at(li);
+            l.expectKeys({"z_top_m", "z_bottom_m", "absorption_per_m", "scatterers"});
+            Layer ly;
+            ly.zTop = l["z_top_m"].bound(kInfinity);
+            ly.zBottom = l["z_bottom_m"].bound(-kInfinity);
+            ly.absorption = l["absorption_per_m"].spectrum();
+            auto sc = l["scatterers"];
+            for (size_t k = 0; k < sc.size(); ++k) {
+                auto c = sc.at(k);
+                c.expectKeys({"name", "scattering_per_m", "phase"});
+                Scatterer x;
+                x.name = c["name"].str();
+                x.scattering = c["scattering_per_m"].spectrum();
+                auto ph = c["phase"];
+                ph.expectKeys({"type", "g", "backscatter_fraction", "k"});
+                x.phase.type = ph["type"].choice<PhaseFunction::Type>();
+                if (x.phase.type == PhaseFunction::Type::HenyeyGreenstein) x.phase.g = ph["g"].num();
+                else if (ph.has("g")) ph["g"].fail("only the henyey-greenstein phase function has 'g'");
+                if (x.phase.type == PhaseFunction::Type::FournierForand)
+                    x.phase.backscatterFraction = ph["backscatter_fraction"].num();
+                else if (ph.has("backscatter_fraction"))
+                    ph["backscatter_fraction"].fail("only the fournier-forand phase function has 'backscatter_fraction'");
+                if (ph.has("k")) {
+                    if (x.phase.type != PhaseFunction::Type::RayleighLike) ph["k"].fail("only the rayleigh phase function has 'k'");
+                    x.phase.k = ph["k"].num();
+                }
+                ly.scatterers.push_back(x);
+            }
+            md.layers.push_back(ly);
+        }
+        if (auto err = checkLayers(md); !err.empty()) layers.fail(err);
         s.media.push_back(md);
     }
     auto mats = r["materials"];
@@ -375,15 +469,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad"});
         Material mt;
         mt.name = m["name"].str();
-        mt.type = m["type"].choice<Material::Type>({{"lambertian", Material::Type::Lambertian},
-                                                    {"textured", Material::Type::Textured},
-                                                    {"dielectric", Material::Type::Dielectric},
-                                                    {"rough-dielectric", Material::Type::RoughDielectric},
-                                                    {"black", Material::Type::Black}});
-        mt.solver = m["solver"].choice<Material::Solver>({{"classic", Material::Solver::Classic},
-                                                          {"generic", Material::Solver::Generic},
-                                                          {"fresnel", Material::Solver::Fresnel},
-                                                          {"surface-pm", Material::Solver::SurfacePM}});
+        mt.type = m["type"].choice<Material::Type>();
+        if (m.has("solver")) mt.solver = m["solver"].choice<Material::Solver>();
         mt.reflectance = m["reflectance"].spectrum();
         if (m.has("texture")) {
             auto t = m["texture"];
@@ -437,8 +524,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
                       "pixel_pitch_m", "pixel_size_m", "samples_per_pixel", "medium"});
         Sensor se;
         se.name = c["name"].str();
-        se.type = c["type"].choice<Sensor::Type>({{"pinhole", Sensor::Type::Pinhole},
-                                                  {"orthographic", Sensor::Type::Orthographic}});
+        se.type = c["type"].choice<Sensor::Type>();
         se.position = c["position_m"].vec3();
         se.forward = c["forward"].vec3();
         se.up = c["up"].vec3();
@@ -458,12 +544,17 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     auto probes = r["probes"];
     for (size_t i = 0; i < probes.size(); ++i) {
         auto p = probes.at(i);
-        p.expectKeys({"name", "position_m", "quantities", "medium"});
+        p.expectKeys({"name", "position_m", "quantities", "medium", "samples"});
         Probe pr;
         pr.name = p["name"].str();
         pr.position = p["position_m"].vec3();
         pr.quantities = p["quantities"].strings();
         pr.medium = p["medium"].str();
+        if (p.has("samples")) {
+            const int64_t n = p["samples"].integer();
+            if (n < 2 || n > (1 << 30)) p["samples"].fail("expected an integer in [2, 2^30]");
+            pr.samples = static_cast<int>(n);
+        }
         s.probes.push_back(pr);
     }
     return s;

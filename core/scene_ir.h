@@ -9,35 +9,65 @@
 // in micrometres; spectral quantities as tabulated Spectrum (the renderer averages them over its
 // bands, and refuses a band that a spectrum does not cover).
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/mesh.h"
+#include "core/names.h"
 #include "core/spectrum.h"
 #include "core/vec.h"
 
 namespace littoral::ir {
 
-inline constexpr int kFormatVersion = 1;
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// Phase function of a scattering medium.
+inline constexpr int kFormatVersion = 2;
+
+// Phase function of one scattering constituent. All are normalised over the sphere.
 struct PhaseFunction {
-    enum class Type { Isotropic, HenyeyGreenstein, Petzold, Rayleigh };
+    enum class Type { Isotropic, HenyeyGreenstein, Petzold, FournierForand, RayleighLike };
     Type type = Type::Isotropic;
-    double g = 0.0;  // HG asymmetry parameter (mean cosine), in (-1, 1)
+    double g = 0.0;                    // HenyeyGreenstein: asymmetry parameter (mean cosine), (-1, 1)
+    double backscatterFraction = 0.0;  // FournierForand: B = b_b / b, (0, 0.5)
+    double k = 1.0;                    // RayleighLike: p proportional to 1 + k cos^2 (1: Mobley et al.
+                                       // 1993 problem 1; 0.835: molecular water, Morel 1974)
 };
 
-// A homogeneous medium. "air" with n = 1 and no absorption or scattering is implicit when a mesh
-// side names no medium.
+// One scattering constituent of a layer (pure water, particles, ...): its scattering coefficient
+// b_i(lambda) and phase function. A layer's phase function is the mixture sum b_i p_i / sum b_i.
+struct Scatterer {
+    std::string name;
+    Spectrum scattering = Spectrum::constant(0.0);  // b_i, m^-1
+    PhaseFunction phase;
+};
+
+// A horizontal slab of water zBottom <= z < zTop (world z, metres) with its own IOPs. A medium's
+// layers are ordered top to bottom, contiguous, the first reaching up without limit and the last
+// down without limit (a homogeneous medium is one layer with both bounds infinite).
+struct Layer {
+    double zTop = kInfinity, zBottom = -kInfinity;
+    Spectrum absorption = Spectrum::constant(0.0);  // a, m^-1
+    std::vector<Scatterer> scatterers;               // empty = non-scattering
+};
+
+// A medium: refractive index and a stack of layers. "air" with n = 1 and no absorption or
+// scattering is implicit when a mesh side names no medium.
 struct Medium {
     std::string name;
     Spectrum refractiveIndex = Spectrum::constant(1.0);
-    Spectrum absorption = Spectrum::constant(0.0);  // a, m^-1
-    Spectrum scattering = Spectrum::constant(0.0);  // b, m^-1
-    PhaseFunction phase;
+    std::vector<Layer> layers{Layer{}};
+    SourceLoc origin;  // where a scene file defined it (not serialised; for messages)
+
+    // A homogeneous medium with one scatterer (none if b is the constant 0).
+    static Medium homogeneous(std::string name, double n, Spectrum a, Spectrum b, PhaseFunction phase = {});
 };
+
+// "" if the layers of `m` are ordered, contiguous and cover all z; otherwise what is wrong.
+std::string checkLayers(const Medium& m);
 
 // How a surface interacts with light, and which radiometry solver evaluates it (Table 10.4).
 struct Material {
@@ -47,11 +77,16 @@ struct Material {
         Dielectric,      // smooth Fresnel interface between the mesh's two media
         RoughDielectric, // Cox–Munk microfacet interface (wind speed, wind azimuth)
         Black,           // absorbs everything (r = 0)
+        Periodic,        // a side wall of a horizontally periodic domain: rays leave through it and
+                         // re-enter through the opposite wall (SceneIR::domain)
     };
+    // The dirsig estimator's per-material solver (Table 10.4). Unset: the estimator's default for
+    // the material type (Classic for diffuse materials, Fresnel for interfaces); other estimators
+    // refuse a material that sets one.
     enum class Solver { Classic, Generic, Fresnel, SurfacePM };
     std::string name;
     Type type = Type::Lambertian;
-    Solver solver = Solver::Classic;
+    std::optional<Solver> solver;
     Spectrum reflectance = Spectrum::constant(0.0);
     // Textured: image path relative to the IR directory (single channel float or 8-bit; the
     // value multiplies `reflectance`), draped over the plan-view rectangle [x0, x1] x [y0, y1].
@@ -61,6 +96,7 @@ struct Material {
     // counter-clockwise from +x (east), radians.
     double windSpeed = 0.0;
     double windAzimuth = 0.0;
+    SourceLoc origin;  // where a scene file defined it (not serialised; for messages)
 };
 
 // A triangle mesh with up to 65536 material slots (per-face index into `materials`) and the media
@@ -123,26 +159,58 @@ struct Probe {
     Point3 position;
     std::vector<std::string> quantities;
     std::string medium;
+    std::optional<int> samples;  // sample paths per quantity; unset: render.probe_samples
 };
 
+// Which radiance estimator renders the scene (render.estimator):
+//   Dirsig  the dissertation's per-material radiometry solvers (Classic, Generic, Fresnel, and the
+//           photon-mapped SurfacePM / MediumPM);
+//   Path    an unbiased volumetric path tracer, the reference the others are checked against.
+enum class Estimator { Dirsig, Path };
+
+// Render settings. `bands`, `seed`, `threads` and `estimator` are always defined; every other
+// setting is optional: unset means "the estimator's default", and a setting that is set but that
+// no part of the chosen estimator reads is an error naming it (renderSettingKeys() lists them).
 struct RenderSettings {
     std::vector<Band> bands{Band{0.4, 0.6}};
     uint64_t seed = 1;
-    int threads = 0;                 // 0 = all cores
-    int maxBounces = 8;              // path depth limit for the Generic solver and specular chains
-    int hemisphereSamples = 64;      // Generic solver sky/background samples per shading point
-    int maxSpecularDepth = 16;       // specular interface events (reflection/refraction/TIR) per path
-    int probeSamples = 4096;         // rays per probe quantity (hemisphere or sphere integration)
-    uint64_t surfacePhotons = 0;     // photon pass sizes (0 = no photon map)
-    uint64_t volumePhotons = 0;
-    double surfaceSearchRadius = 0.4;  // m
-    double volumeSearchRadius = 0.4;   // m
-    double marchStep = 0.1;            // m, ray-march step in scattering media
+    int threads = 0;  // 0 = all cores
+    Estimator estimator = Estimator::Dirsig;
+    std::optional<int> maxBounces;            // scattering/diffuse vertices per path
+    std::optional<int> hemisphereSamples;     // dirsig: sky/background rays at the first diffuse vertex
+    std::optional<int> maxSpecularDepth;      // specular interface events per path
+    std::optional<int> probeSamples;          // sample paths per probe quantity
+    std::optional<int> probeBatches;          // independent batches for probe standard errors
+    std::optional<uint64_t> surfacePhotons;   // photon pass sizes
+    std::optional<uint64_t> volumePhotons;
+    std::optional<double> surfaceSearchRadius;  // m
+    std::optional<double> volumeSearchRadius;   // m
+    std::optional<double> marchStep;            // m, step of in-scatter estimates along rays in water
+    // Where a scene file set each key (scene-file key name -> location); not serialised. Lets
+    // errors found later (e.g. "not read by this estimator") point at the scene file.
+    std::map<std::string, SourceLoc> locations;
+};
+
+// One optional render setting: its key in scene.json, its key path in a scene file, and whether it
+// is set. The table behind renderSettingKeys() is the one list of optional settings.
+struct RenderSettingKey {
+    const char* irKey;     // e.g. "surface_photons"
+    const char* sceneKey;  // e.g. "photons.surface" (under `render:`)
+    bool (*isSet)(const RenderSettings&);
+};
+const std::vector<RenderSettingKey>& renderSettingKeys();
+
+// The plan-view domain of the scene, and whether it repeats horizontally (water.horizontal:
+// periodic): then the faces of material type Periodic on its side walls wrap rays around.
+struct Domain {
+    double x0 = -45, x1 = 45, y0 = -30, y1 = 30;
+    bool periodic = false;
 };
 
 struct SceneIR {
     std::string name = "scene";
     RenderSettings render;
+    Domain domain;
     Sun sun;
     Sky sky;
     std::vector<Medium> media;
@@ -170,3 +238,41 @@ std::string toJsonText(const SceneIR& scene);
 SceneIR fromJsonText(const std::string& text, const std::string& fileForErrors);
 
 }  // namespace littoral::ir
+
+namespace littoral {
+template <> struct EnumNames<ir::PhaseFunction::Type> {
+    static constexpr std::string_view what = "phase function";
+    static constexpr EnumName<ir::PhaseFunction::Type> table[] = {
+        {ir::PhaseFunction::Type::Isotropic, "isotropic"},
+        {ir::PhaseFunction::Type::HenyeyGreenstein, "henyey-greenstein"},
+        {ir::PhaseFunction::Type::Petzold, "petzold"},
+        {ir::PhaseFunction::Type::FournierForand, "fournier-forand"},
+        {ir::PhaseFunction::Type::RayleighLike, "rayleigh"}};
+};
+template <> struct EnumNames<ir::Material::Type> {
+    static constexpr std::string_view what = "material type";
+    static constexpr EnumName<ir::Material::Type> table[] = {{ir::Material::Type::Lambertian, "lambertian"},
+                                                             {ir::Material::Type::Textured, "textured"},
+                                                             {ir::Material::Type::Dielectric, "dielectric"},
+                                                             {ir::Material::Type::RoughDielectric, "rough-dielectric"},
+                                                             {ir::Material::Type::Black, "black"},
+                                                             {ir::Material::Type::Periodic, "periodic"}};
+};
+template <> struct EnumNames<ir::Material::Solver> {
+    static constexpr std::string_view what = "radiometry solver";
+    static constexpr EnumName<ir::Material::Solver> table[] = {{ir::Material::Solver::Classic, "classic"},
+                                                               {ir::Material::Solver::Generic, "generic"},
+                                                               {ir::Material::Solver::Fresnel, "fresnel"},
+                                                               {ir::Material::Solver::SurfacePM, "surface-pm"}};
+};
+template <> struct EnumNames<ir::Sensor::Type> {
+    static constexpr std::string_view what = "sensor type";
+    static constexpr EnumName<ir::Sensor::Type> table[] = {{ir::Sensor::Type::Pinhole, "pinhole"},
+                                                           {ir::Sensor::Type::Orthographic, "orthographic"}};
+};
+template <> struct EnumNames<ir::Estimator> {
+    static constexpr std::string_view what = "estimator";
+    static constexpr EnumName<ir::Estimator> table[] = {{ir::Estimator::Dirsig, "dirsig"},
+                                                        {ir::Estimator::Path, "path"}};
+};
+}  // namespace littoral

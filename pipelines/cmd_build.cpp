@@ -9,6 +9,7 @@
 
 #include "core/log.h"
 #include "pipelines/command_registry.h"
+#include "pipelines/lib_scene.h"
 #include "scenegen/assemble.h"
 
 namespace {
@@ -23,6 +24,9 @@ void runBuild(const BuildOptions& o) {
     using namespace littoral::scenegen;
     AssembleOptions ao;
     if (o.surfaceTriangles > 0) ao.surfaceTriangles = o.surfaceTriangles;
+    // Render settings are part of the IR: refuse ones the chosen estimator would not read before
+    // anything is written.
+    littoral::pipelines::checkRenderSettings(loadSceneFile(o.scene));
     const AssembledScene s = buildScene(o.scene, o.out, ao);
     if (littoral::globalOptions().quiet) return;
     std::cerr << fmt::format("built {} -> {}\n", o.scene, o.out);

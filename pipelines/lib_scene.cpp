@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "core/log.h"
+#include "render/estimator.h"
 #include "render/render_job.h"
 #include "scenegen/assemble.h"
 #include "scenegen/assembly_sections.h"
@@ -16,8 +17,24 @@ namespace littoral::pipelines {
 
 namespace fs = std::filesystem;
 
+void checkRenderSettings(const scenegen::SceneSpec& spec) {
+    ir::SceneIR ir;
+    scenegen::applyCommonSections(spec, &ir);
+    // Texture classes become materials during assembly; their solvers are checked now too.
+    if (spec.textureClasses)
+        for (const auto& c : scenegen::parseTextureClasses(*spec.textureClasses).classes) {
+            ir::Material m;
+            m.name = c.name;
+            if (!c.solver.empty()) m.solver = parseName<ir::Material::Solver>(c.solver);
+            m.origin = c.loc;
+            ir.materials.push_back(m);
+        }
+    (void)render::makeRenderConfig(ir);
+}
+
 std::string checkScene(const fs::path& sceneFile) {
     const auto spec = scenegen::loadSceneFile(sceneFile);
+    checkRenderSettings(spec);
     // The geometry sections are checked by their own parsers without generating anything.
     if (spec.waterSurface) scenegen::parseWaterSurface(*spec.waterSurface);
     if (spec.bathymetry) scenegen::parseBathymetry(*spec.bathymetry);
@@ -50,6 +67,7 @@ void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview) {
 std::string runScene(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
+    checkRenderSettings(scenegen::loadSceneFile(o.scene));  // before anything is written
     const auto built = scenegen::buildScene(o.scene, irDir);
     const auto t1 = std::chrono::steady_clock::now();
     render::RenderJobOptions jo;

@@ -13,6 +13,16 @@ namespace littoral::pipelines {
 // Adds --gamma, --white and --blur (the PNG preview's display mapping) to a subcommand.
 void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview);
 
+}  // namespace littoral::pipelines
+namespace littoral::scenegen {
+struct SceneSpec;
+}
+namespace littoral::pipelines {
+
+// Checks the render settings and the per-material solvers of a parsed scene against its
+// estimator (render::makeRenderConfig) without building anything; InputError with the location.
+void checkRenderSettings(const scenegen::SceneSpec& spec);
+
 // Parses and validates every section of a scene file, including the geometry sections' own
 // parsers; throws InputError on the first mistake. Returns a short human-readable summary.
 std::string checkScene(const std::filesystem::path& sceneFile);

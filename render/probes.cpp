@@ -12,7 +12,7 @@
 #include "core/frame.h"
 #include "core/rng.h"
 #include "core/units.h"
-#include "render/integrator.h"
+#include "core/progress.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -35,15 +35,31 @@ constexpr uint64_t kProbePassBase = 1ull << 40;
 
 }  // namespace
 
-std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
-                                      const RenderOptions& opts) {
+std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
+                                      int probeIndex, const RenderOptions& opts) {
     const std::string who = fmt::format("probe '{}'", probe.name);
     const int medium = scene.mediumIndex(probe.medium, who + " medium");
     checkNotInsideOpaque(scene, probe.position, who);
-    const int N = scene.ir().render.probeSamples;
-    if (N < 2) throw InputError(fmt::format("render.probeSamples {} must be at least 2", N));
+    const RenderConfig& cfg = estimators.config();
+    const int B = cfg.probeBatches;
+    const int N = probe.samples.value_or(cfg.probeSamples);
+    if (N < B)
+        throw InputError(fmt::format("{}: {} samples cannot form {} batches (render.probe_batches)", who, N, B));
+    const int perBatch = N / B;  // a remainder of fewer than B samples is not drawn
+    // Work is cut into chunks of at most kChunk samples inside each batch; each chunk is summed by
+    // one task and the chunk sums are added in a fixed order, so the result does not depend on
+    // the thread count.
+    constexpr int kChunk = 1024;
+    const int chunksPerBatch = (perBatch + kChunk - 1) / kChunk;
     const int nb = scene.bandCount();
-    const StratifiedLayout layout(N);
+    const StratifiedLayout layout(perBatch);
+
+    std::unique_ptr<Progress> progress;
+    const uint64_t totalChunks =
+        static_cast<uint64_t>(chunksPerBatch) * B * probe.quantities.size() * estimators.size();
+    if (opts.progress && totalChunks > 64)
+        progress = std::make_unique<Progress>(fmt::format("probe {}", probe.name), totalChunks, "chunks");
+
     std::vector<ProbeValue> out;
     for (size_t qi = 0; qi < probe.quantities.size(); ++qi) {
         const Quantity q = parseQuantity(probe.quantities[qi], who);
@@ -53,69 +69,90 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe
         v.units = q == Quantity::Lu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
         v.mean.assign(nb, 0.0);
         v.stderr_.assign(nb, 0.0);
+        v.samples = perBatch * B;
+        v.batches = B;
         const bool up = q == Quantity::Ed || q == Quantity::Eod;
         const Normal3 n{0, 0, up ? 1.0 : -1.0};
         const Frame frame = Frame::fromNormal(n);
-        for (const BandGroup& g : bandGroups(scene)) {
-            const Integrator integrator(scene, g);
-            std::vector<Spec> samples(N);
+        for (size_t gi = 0; gi < estimators.size(); ++gi) {
+            const Estimator& est = estimators.forGroup(gi);
+            const BandGroup g = estimators.groups()[gi];
+            std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
             tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range<int>(0, N, 64), [&](const tbb::blocked_range<int>& r) {
-                    for (int k = r.begin(); k != r.end(); ++k) {
-                        RandomStream rng(scene.ir().render.seed, kProbePassBase + probeIndex * 16 + qi, k);
-                        const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
-                        Vec3 w;
-                        double weight;
-                        switch (q) {
-                            case Quantity::Ed:
-                            case Quantity::Eu:
-                                w = sampleCosineHemisphere(u.x, u.y);
-                                weight = kPi;  // Int L cos dw = pi <L> under pdf cos/pi
-                                break;
-                            case Quantity::Eod:
-                            case Quantity::Eou:
-                                w = sampleUniformHemisphere(u.x, u.y);
-                                weight = 2.0 * kPi;  // Int L dw = 2 pi <L> under pdf 1/(2 pi)
-                                break;
-                            case Quantity::Lu:
-                            default:
-                                w = {0, 0, 1};
-                                weight = 1.0;
-                                break;
+                tbb::parallel_for(tbb::blocked_range<size_t>(0, chunkSums.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                    for (size_t c = r.begin(); c != r.end(); ++c) {
+                        const int batch = static_cast<int>(c / chunksPerBatch);
+                        const int k0 = static_cast<int>(c % chunksPerBatch) * kChunk;
+                        const int k1 = std::min(perBatch, k0 + kChunk);
+                        Spec sum(g.count);
+                        for (int k = k0; k < k1; ++k) {
+                            const uint64_t index = static_cast<uint64_t>(batch) * perBatch + k;
+                            RandomStream rng(scene.ir().render.seed, kProbePassBase + probeIndex * 16 + qi, index);
+                            const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
+                            Vec3 w;
+                            double weight;
+                            switch (q) {
+                                case Quantity::Ed:
+                                case Quantity::Eu:
+                                    w = sampleCosineHemisphere(u.x, u.y);
+                                    weight = kPi;  // Int L cos dw = pi <L> under pdf cos/pi
+                                    break;
+                                case Quantity::Eod:
+                                case Quantity::Eou:
+                                    w = sampleUniformHemisphere(u.x, u.y);
+                                    weight = 2.0 * kPi;  // Int L dw = 2 pi <L> under pdf 1/(2 pi)
+                                    break;
+                                case Quantity::Lu:
+                                default:
+                                    w = {0, 0, 1};
+                                    weight = 1.0;
+                                    break;
+                            }
+                            Ray ray;
+                            ray.o = probe.position;
+                            ray.d = normalize(frame.toWorld(w));
+                            if (up) {
+                                // Diffuse light by sampling, the direct beam by next-event estimation.
+                                Spec L = est.LiIndirect(ray, medium, rng) * weight;
+                                L += est.directSun(probe.position, n, medium, q == Quantity::Eod, rng);
+                                sum += L;
+                            } else {
+                                sum += est.Li(ray, medium, rng) * weight;
+                            }
                         }
-                        Ray ray;
-                        ray.o = probe.position;
-                        ray.d = normalize(frame.toWorld(w));
-                        PathState st;
-                        st.medium = medium;
-                        st.splits = 1;
-                        st.fromSensor = q == Quantity::Lu;  // Ed/Eod add the sun by sunIrradiance
-                        Spec L = integrator.Li(ray, st, rng) * weight;
-                        // Direct sun by a shadow ray (plane: E cos; scalar: E).
-                        if (q == Quantity::Ed || q == Quantity::Eod) {
-                            L += integrator.sunIrradiance(probe.position, n, n, medium, rng, q == Quantity::Eod);
-                        }
-                        samples[k] = L;
+                        chunkSums[c] = sum;
+                        flushRayStats();
+                        if (progress) progress->advance();
                     }
-                    flushRayStats();
                 });
             });
+            // Batch means, then their spread.
             for (int b = 0; b < g.count; ++b) {
                 double sum = 0, sum2 = 0;
-                for (const Spec& s : samples) {
-                    sum += s[b];
-                    sum2 += s[b] * s[b];
+                for (int batch = 0; batch < B; ++batch) {
+                    double s = 0;
+                    for (int c = 0; c < chunksPerBatch; ++c) s += chunkSums[static_cast<size_t>(batch) * chunksPerBatch + c][b];
+                    const double m = s / perBatch;
+                    sum += m;
+                    sum2 += m * m;
                 }
-                const double mean = sum / N;
-                const double var = std::max(0.0, (sum2 - N * mean * mean) / (N - 1));
+                const double mean = sum / B;
+                const double var = std::max(0.0, (sum2 - B * mean * mean) / (B - 1));
                 v.mean[g.begin + b] = mean;
-                v.stderr_[g.begin + b] = std::sqrt(var / N);
+                v.stderr_[g.begin + b] = std::sqrt(var / B);
             }
         }
         out.push_back(std::move(v));
     }
+    if (progress) progress->finish();
     return out;
+}
+
+std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
+                                      const RenderOptions& opts) {
+    const EstimatorSet estimators(scene);
+    return evaluateProbe(scene, estimators, probe, probeIndex, opts);
 }
 
 std::string probesCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands) {
@@ -133,8 +170,13 @@ std::string probesJson(const std::vector<ProbeValue>& values, const std::vector<
     for (const Band& b : bands) j["bands"].push_back({{"lo_um", b.lo}, {"hi_um", b.hi}});
     j["probes"] = nlohmann::json::array();
     for (const ProbeValue& v : values)
-        j["probes"].push_back(
-            {{"probe", v.probe}, {"quantity", v.quantity}, {"units", v.units}, {"value", v.mean}, {"stderr", v.stderr_}});
+        j["probes"].push_back({{"probe", v.probe},
+                               {"quantity", v.quantity},
+                               {"units", v.units},
+                               {"value", v.mean},
+                               {"stderr", v.stderr_},
+                               {"samples", v.samples},
+                               {"batches", v.batches}});
     return j.dump(2) + "\n";
 }
 

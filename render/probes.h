@@ -6,18 +6,24 @@
 //   Eu  = Int_{down} L(w) |cos theta| dw   (the same toward the lower hemisphere)
 //   Eod = Int_{up}   L(w) dw              uniform stratified sampling: Eod = 2 pi <L>
 //   Eou = Int_{down} L(w) dw
-//   Lu  = L arriving from straight below (the radiance a nadir-looking sensor reads), <L> over
-//         the samples of the same ray
-// L(w) is the radiance arriving at the probe from direction w (traced with the Integrator; the
-// probe itself casts no shadow). The sun's direct beam is added by a shadow ray (E_sun cos theta_s
-// for Ed, E_sun for Eod) instead of waiting for a sample to land in the 6.7e-5 sr disc; rays that
-// reach the disc through a specular interface still count it. The standard error is
-// s / sqrt(N) with s the sample standard deviation of the N per-sample estimates (conservative
-// for stratified sampling, which has smaller variance than independent sampling).
+//   Lu  = L arriving from straight below (the radiance a nadir-looking sensor reads)
+// L(w) is the radiance arriving at the probe from direction w, estimated by the render's
+// estimator (a backward, adjoint estimate: paths start at the probe; the probe casts no shadow).
+// The sun's direct beam is added by next-event estimation (E_sun cos theta_s for Ed, E_sun for
+// Eod, refracted through the interface above in water) instead of waiting for a sample to land
+// in the 6.7e-5 sr disc; the sampled rays then carry only the rest (Estimator::LiIndirect).
+//
+// Standard errors come from independent batches: the `probe_samples` paths are split into
+// `probe_batches` batches of equal size, each stratified on its own over the hemisphere, and the
+// standard error is the standard deviation of the batch means divided by sqrt(batches). Batch
+// means are independent, so this is honest whatever the stratification does to single samples
+// (s / sqrt(N) over stratified samples would overstate the error, over correlated ones understate
+// it). Results are identical for any thread count.
 #include <string>
 #include <vector>
 
 #include "core/scene_ir.h"
+#include "render/estimator.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 
@@ -27,10 +33,14 @@ struct ProbeValue {
     std::string probe, quantity;
     std::string units;                // W m^-2 um^-1 (irradiances) or W m^-2 sr^-1 um^-1 (Lu)
     std::vector<double> mean, stderr_;  // per render band
+    int samples = 0, batches = 0;
 };
 
 // Evaluates every quantity of one probe. InputError for an unknown quantity, an unknown medium or
 // a probe inside a closed opaque object.
+std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
+                                      int probeIndex, const RenderOptions& opts = {});
+// Convenience: builds the estimators of `scene` for this one call.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts = {});
 

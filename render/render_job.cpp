@@ -30,12 +30,14 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     ro.threads = opts.threads;
     ro.progress = opts.progress;
     RenderJobResult res;
+    // One estimator per band group, shared by every sensor and probe (settings checked here).
+    const EstimatorSet estimators(scene);
     // Validate every sensor's view before spending time on radiance.
     for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
-    for (const ir::Sensor* s : sensors) res.images.push_back(renderSensor(scene, *s, ro));
+    for (const ir::Sensor* s : sensors) res.images.push_back(renderSensor(scene, estimators, *s, ro));
     if (opts.sensor.empty())
         for (size_t i = 0; i < ir.probes.size(); ++i) {
-            auto v = evaluateProbe(scene, ir.probes[i], static_cast<int>(i), ro);
+            auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
             res.probes.insert(res.probes.end(), v.begin(), v.end());
         }
 

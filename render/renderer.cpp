@@ -13,7 +13,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/rng.h"
-#include "render/integrator.h"
+#include "render/estimator.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -55,11 +55,16 @@ float truthDepth(const Scene& scene, Ray ray, int maxEvents) {
     SurfaceHit h;
     for (int e = 0; e <= maxEvents; ++e) {
         if (!scene.geometry().intersect(ray, &h)) return std::numeric_limits<float>::quiet_NaN();
-        const MaterialData& m = scene.materials()[scene.materialIndex(h)];
+        const MaterialData& m = scene.material(h);
+        if (m.isPeriodicWall()) {
+            const auto next = scene.wrapRay(h, ray.d);
+            if (!next) return std::numeric_limits<float>::quiet_NaN();
+            ray = *next;
+            continue;
+        }
         if (m.isOpaque()) return static_cast<float>(h.p.z < 0 ? -h.p.z : 0.0);
-        const int mIn = scene.insideMedium(h.mesh), mOut = scene.outsideMedium(h.mesh);
-        const double nO = scene.media()[h.front ? mOut : mIn].n[0];
-        const double nT = scene.media()[h.front ? mIn : mOut].n[0];
+        const double nO = scene.media()[scene.nearMedium(h)].n(0);
+        const double nT = scene.media()[scene.farMedium(h)].n(0);
         const Normal3 n = h.front ? h.ng : -h.ng;
         Vec3 wt;
         if (refract(-ray.d, n, nO / nT, &wt)) {
@@ -81,7 +86,7 @@ void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string
         r.d = d;
         SurfaceHit h;
         if (!scene.geometry().intersect(r, &h)) continue;
-        const MaterialData& m = scene.materials()[scene.materialIndex(h)];
+        const MaterialData& m = scene.material(h);
         // A closed mesh that encloses a medium (a water volume, even with black floor faces) is
         // not an opaque object; one with air inside and an opaque face seen from behind is.
         if (!h.front && m.isOpaque() && scene.meshClosed(h.mesh) && scene.insideMedium(h.mesh) == 0)
@@ -102,7 +107,7 @@ static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declar
         r.d = d;
         SurfaceHit h;
         if (!scene.geometry().intersect(r, &h)) continue;
-        if (!scene.materials()[scene.materialIndex(h)].isSpecularInterface()) continue;
+        if (!scene.material(h).isInterface()) continue;
         const int m = h.front ? scene.outsideMedium(h.mesh) : scene.insideMedium(h.mesh);
         if (seen >= 0 && m != seen) return;  // ambiguous surroundings: say nothing
         seen = m;
@@ -110,7 +115,7 @@ static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declar
     }
     if (votes > 0 && seen != declared)
         log::warn("{}: declared in medium '{}' but the surrounding interfaces say '{}'", who,
-                  scene.media()[declared].name, scene.media()[seen].name);
+                  scene.media()[declared].name(), scene.media()[seen].name());
 }
 
 TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
@@ -124,7 +129,7 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
     TruthImages truth(cam.width(), cam.height());
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     std::atomic<int64_t> hits{0};
-    const int maxEvents = scene.ir().render.maxSpecularDepth;
+    const int maxEvents = scene.ir().render.maxSpecularDepth.value_or(16);
     runTiles(opts, tiling, nullptr, [&](size_t tile) {
         int64_t local = 0;
         tiling.forEachPixel(tile, [&](int x, int y) {
@@ -147,6 +152,12 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
 }
 
 SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
+    const EstimatorSet estimators(scene);
+    return renderSensor(scene, estimators, sensor, opts);
+}
+
+SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, const ir::Sensor& sensor,
+                         const RenderOptions& opts) {
     SensorImage out;
     out.sensor = sensor.name;
     out.truth = renderTruth(scene, sensor, opts);  // also validates the camera and the view
@@ -155,7 +166,7 @@ SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const Ren
     out.film = Film(cam.width(), cam.height(), scene.bands());
     const int nb = scene.bandCount();
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
-    const auto groups = bandGroups(scene);
+    const auto& groups = estimators.groups();
     const uint64_t seed = scene.ir().render.seed;
     const int spp = cam.samplesPerPixel();
     const StratifiedLayout pixelLayout(spp);
@@ -165,8 +176,9 @@ SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const Ren
         progress = std::make_unique<Progress>(fmt::format("render {}", sensor.name), tiling.count() * groups.size(),
                                               "tiles");
     std::atomic<int64_t> nonFinite{0};
-    for (const BandGroup& g : groups) {
-        const Integrator integrator(scene, g);
+    for (size_t gi = 0; gi < groups.size(); ++gi) {
+        const BandGroup g = groups[gi];
+        const Estimator& estimator = estimators.forGroup(gi);
         runTiles(opts, tiling, progress.get(), [&](size_t tile) {
             tiling.forEachPixel(tile, [&](int x, int y) {
                 const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
@@ -177,11 +189,7 @@ SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const Ren
                     const double j1 = rng.uniform(), j2 = rng.uniform();
                     if (spp > 1) u = pixelLayout.point(s, j1, j2);
                     const Ray ray = cam.generateRay(x + u.x, y + u.y);
-                    PathState st;
-                    st.medium = medium;
-                    st.splits = 3;
-                    st.fromSensor = true;
-                    sum += integrator.Li(ray, st, rng);
+                    sum += estimator.Li(ray, medium, rng);
                 }
                 float* px = &out.film.pixels[pixel * nb];
                 for (int b = 0; b < g.count; ++b) {

@@ -1,5 +1,5 @@
 #pragma once
-// Rendering a sensor: the tile-parallel driver around the Integrator.
+// Rendering a sensor: the tile-parallel driver around the render's Estimator.
 //
 // Pixel sample s of pixel (i, j) draws all its random numbers from
 // RandomStream(seed, pass = s, index = j * W + i), and each image tile is written by exactly
@@ -34,7 +34,11 @@ struct SensorImage {
     TruthImages truth;    // first-hit material, range, depth below z = 0 of the pixel-centre ray
 };
 
-// Renders one sensor of the scene.
+class EstimatorSet;
+// Renders one sensor of the scene with the render's estimators (one per band group).
+SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, const ir::Sensor& sensor,
+                         const RenderOptions& opts = {});
+// Convenience: builds the estimators of `scene` for this one sensor.
 SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts = {});
 
 // Geometric truth only (pixel-centre rays; refracted rays followed, with the first band's

@@ -12,20 +12,6 @@
 
 namespace littoral::render {
 
-namespace {
-
-const char* solverName(ir::Material::Solver s) {
-    switch (s) {
-        case ir::Material::Solver::Classic: return "Classic";
-        case ir::Material::Solver::Generic: return "Generic";
-        case ir::Material::Solver::Fresnel: return "Fresnel";
-        case ir::Material::Solver::SurfacePM: return "SurfacePM";
-    }
-    return "?";
-}
-
-}  // namespace
-
 double Texture::lookup(double x, double y) const {
     const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
     const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
@@ -54,7 +40,7 @@ std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
 int Scene::mediumIndex(const std::string& name, const std::string& who) const {
     if (name.empty()) return 0;
     for (size_t i = 1; i < media_.size(); ++i)
-        if (media_[i].name == name) return static_cast<int>(i);
+        if (media_[i].name() == name) return static_cast<int>(i);
     throw InputError(fmt::format("{}: unknown medium '{}'", who, name));
 }
 
@@ -66,33 +52,9 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
                                          bands_[i].lo, bands_[i].hi));
 
     // Media: index 0 is the implicit air.
-    MediumData air;
-    air.name = "";
-    air.n.assign(bands_.size(), 1.0);
-    air.a.assign(bands_.size(), 0.0);
-    air.b = air.a;
-    air.c = air.a;
-    media_.push_back(air);
-    for (const ir::Medium& m : ir.media) {
-        MediumData d;
-        d.name = m.name;
-        const std::string who = fmt::format("medium '{}'", m.name);
-        d.n = m.refractiveIndex.bandAverages(bands_, who + " refractiveIndex");
-        d.a = m.absorption.bandAverages(bands_, who + " absorption");
-        d.b = m.scattering.bandAverages(bands_, who + " scattering");
-        d.c.resize(bands_.size());
-        for (size_t k = 0; k < bands_.size(); ++k) {
-            if (!(d.n[k] >= 1.0 - 1e-12) || !(d.a[k] >= 0) || !(d.b[k] >= 0))
-                throw InputError(fmt::format("{}: band {} has n = {}, a = {}, b = {} (need n >= 1, a >= 0, b >= 0)",
-                                             who, k, d.n[k], d.a[k], d.b[k]));
-            d.c[k] = d.a[k] + d.b[k];
-            d.attenuating |= d.c[k] > 0;
-        }
-        d.phase = m.phase;
-        media_.push_back(std::move(d));
-    }
+    media_.push_back(Medium::air(bands_.size()));
+    for (const ir::Medium& m : ir.media) media_.emplace_back(m, bands_, fmt::format("medium '{}'", m.name));
 
-    std::vector<std::string> surfacePmStandIns;
     for (const ir::Material& m : ir.materials) {
         MaterialData d;
         d.name = m.name;
@@ -100,19 +62,9 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
         d.solver = m.solver;
         const std::string who = fmt::format("material '{}'", m.name);
         using T = ir::Material::Type;
-        using S = ir::Material::Solver;
         switch (m.type) {
             case T::Lambertian:
             case T::Textured:
-                if (m.solver == S::SurfacePM) {
-                    // Until the surface photon map exists, Generic stands in (see the warning below).
-                    surfacePmStandIns.push_back("'" + m.name + "'");
-                    d.solver = S::Generic;
-                } else if (m.solver != S::Classic && m.solver != S::Generic) {
-                    throw InputError(fmt::format("{}: solver {} cannot evaluate a diffuse material (use Classic or "
-                                                 "Generic)",
-                                                 who, solverName(m.solver)));
-                }
                 d.reflectance = m.reflectance.bandAverages(bands_, who + " reflectance");
                 for (double r : d.reflectance)
                     if (!(r >= 0 && r <= 1))
@@ -131,27 +83,25 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
                 }
                 break;
             case T::Dielectric:
-                if (m.solver != S::Fresnel && m.solver != S::Generic)
-                    throw InputError(fmt::format("{}: a Dielectric interface needs the Fresnel (or Generic) solver, "
-                                                 "not {}",
-                                                 who, solverName(m.solver)));
+                d.reflectance.assign(bands_.size(), 0.0);
                 break;
             case T::RoughDielectric:
                 throw InputError(fmt::format("{}: RoughDielectric (Cox–Munk) interfaces are not supported by this "
                                              "renderer version; use a faceted Dielectric surface",
                                              who));
+            case T::Periodic:
+                if (!ir.domain.periodic)
+                    throw InputError(fmt::format("{}: a periodic wall needs a periodic domain (domain.horizontal: "
+                                                 "periodic)",
+                                                 who));
+                d.reflectance.assign(bands_.size(), 0.0);
+                break;
             case T::Black:
                 d.reflectance.assign(bands_.size(), 0.0);
                 break;
         }
         materials_.push_back(std::move(d));
     }
-    if (!surfacePmStandIns.empty())
-        // SurfacePM (photon-mapped) and Generic (hemisphere-sampled) estimate the same integral:
-        // sky fraction plus background reflections (dissertation Ch. 6, where GRS and SRS converge).
-        log::warn("material(s) {}: the SurfacePM solver needs the surface photon map, which this version does not "
-                  "build; rendering with the Generic solver (same integral, hemisphere sampling)",
-                  joinList(surfacePmStandIns));
 
     for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
         const ir::Mesh& mesh = ir.meshes[mi];
@@ -183,6 +133,38 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
     geometry_ = std::make_unique<EmbreeScene>(ir);
     log::debug("scene '{}': {} triangles, {} media, {} materials, {} bands", ir.name, geometry_->triangleCount(),
                media_.size() - 1, materials_.size(), bands_.size());
+}
+
+BxDF Scene::bxdf(const SurfaceHit& h, BandGroup g) const {
+    if (materials_[materialIndex(h)].isInterface())
+        return DielectricBxDF{media_[meshOutside_[h.mesh]].n(g.begin), media_[meshInside_[h.mesh]].n(g.begin)};
+    return LambertianBxDF{1.0};
+}
+
+Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {
+    const MaterialData& m = materials_[materialIndex(h)];
+    Spec rho(g.count);
+    for (int i = 0; i < g.count; ++i) rho[i] = m.reflectance[g.begin + i];
+    if (m.texture) rho *= m.texture->lookup(h.p.x, h.p.y);
+    return rho;
+}
+
+std::optional<Ray> Scene::wrapRay(const SurfaceHit& h, const Vec3& d) const {
+    const ir::Domain& D = ir_.domain;
+    const double Lx = D.x1 - D.x0, Ly = D.y1 - D.y0;
+    // The wall the hit lies on is the nearest domain edge in plan view (corners wrap both ways).
+    const double tol = 1e-6 * std::max({1.0, Lx, Ly});
+    Point3 p = h.p;
+    bool moved = false;
+    if (std::abs(p.x - D.x0) < tol && d.x < 0) p.x += Lx, moved = true;
+    else if (std::abs(p.x - D.x1) < tol && d.x > 0) p.x -= Lx, moved = true;
+    if (std::abs(p.y - D.y0) < tol && d.y < 0) p.y += Ly, moved = true;
+    else if (std::abs(p.y - D.y1) < tol && d.y > 0) p.y -= Ly, moved = true;
+    if (!moved) return std::nullopt;  // not on a domain edge, or leaving inward: no wrap
+    Ray r;
+    r.o = p + d * offsetDistance(p);
+    r.d = d;
+    return r;
 }
 
 }  // namespace littoral::render

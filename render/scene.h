@@ -4,23 +4,17 @@
 // Embree BVH built. Immutable after construction and shared by all render threads.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/scene_ir.h"
+#include "render/bxdf.h"
 #include "render/embree_scene.h"
+#include "render/medium.h"
 #include "render/sources.h"
 
 namespace littoral::render {
-
-// A homogeneous medium on the render bands. Index 0 of Scene::media is the implicit air
-// (n = 1, no absorption or scattering) that mesh sides with an empty medium name refer to.
-struct MediumData {
-    std::string name;
-    std::vector<double> n, a, b, c;  // per band; c = a + b (m^-1), Eq. 2.4
-    ir::PhaseFunction phase;
-    bool attenuating = false;        // any band with c > 0
-};
 
 // A single-channel texture draped in plan view over [x0, x1] x [y0, y1]. Row 0 of the image is
 // the north edge (y = y1), column 0 the west edge (x = x0); lookup is nearest-texel and points
@@ -32,14 +26,18 @@ struct Texture {
     double lookup(double x, double y) const;
 };
 
+// A material on the render bands. Transport asks for its BxDF (Scene::bxdf) and that BxDF's flags;
+// `type` is kept for messages, truth images and the periodic-wall test only.
 struct MaterialData {
     std::string name;
     ir::Material::Type type = ir::Material::Type::Lambertian;
-    ir::Material::Solver solver = ir::Material::Solver::Classic;
-    std::vector<double> reflectance;  // per band
+    std::optional<ir::Material::Solver> solver;  // as given (the dirsig estimator resolves defaults)
+    std::vector<double> reflectance;  // per band (0 for interfaces and black)
     std::shared_ptr<const Texture> texture;
-    bool isSpecularInterface() const { return type == ir::Material::Type::Dielectric; }
-    bool isOpaque() const { return !isSpecularInterface(); }
+    // Interfaces let light through to the mesh's other medium; everything else is opaque.
+    bool isInterface() const { return type == ir::Material::Type::Dielectric; }
+    bool isOpaque() const { return !isInterface() && type != ir::Material::Type::Periodic; }
+    bool isPeriodicWall() const { return type == ir::Material::Type::Periodic; }
 };
 
 // Reads a texture with OpenImageIO (first channel, converted to float). InputError if it cannot.
@@ -58,11 +56,30 @@ public:
     const EmbreeScene& geometry() const { return *geometry_; }
     const SunSource& sun() const { return sun_; }
     const SkySource& sky() const { return sky_; }
-    const std::vector<MediumData>& media() const { return media_; }
+    const std::vector<Medium>& media() const { return media_; }
     const std::vector<MaterialData>& materials() const { return materials_; }
 
     // Global material index of a hit (through the mesh's slot list).
     int materialIndex(const SurfaceHit& h) const { return meshMaterials_[h.mesh][h.slot]; }
+    const MaterialData& material(const SurfaceHit& h) const { return materials_[materialIndex(h)]; }
+    // The BxDF at a hit for the bands of g, in the hit's local frame (+z = the mesh's outward
+    // normal): Lambertian with unit reflectance for diffuse materials (the per-band reflectance is
+    // albedo()), a smooth dielectric between the mesh's outside and inside media for interfaces.
+    BxDF bxdf(const SurfaceHit& h, BandGroup g) const;
+    // Per-band diffuse reflectance at a hit (texture applied); zero for interfaces and black.
+    Spec albedo(const SurfaceHit& h, BandGroup g) const;
+    // Medium on the side of the hit the ray came from, and on the far side (interfaces).
+    int nearMedium(const SurfaceHit& h) const { return h.front ? meshOutside_[h.mesh] : meshInside_[h.mesh]; }
+    int farMedium(const SurfaceHit& h) const { return h.front ? meshInside_[h.mesh] : meshOutside_[h.mesh]; }
+
+    // A ray that hit a Periodic side wall leaves through it and re-enters through the opposite wall
+    // of the domain: the same direction d from the hit point moved by the domain's width (or
+    // depth). Estimators treat the wall like an index-matched interface: the segment ends there,
+    // the medium is unchanged, and at most kMaxWraps wraps are followed per path.
+    // nullopt if the hit is not on a domain edge (the wall mesh does not match the domain).
+    std::optional<Ray> wrapRay(const SurfaceHit& h, const Vec3& d) const;
+    static constexpr int kMaxWraps = 1024;
+    const ir::Domain& domain() const { return ir_.domain; }
     int insideMedium(int mesh) const { return meshInside_[mesh]; }
     int outsideMedium(int mesh) const { return meshOutside_[mesh]; }
     bool meshClosed(int mesh) const { return ir_.meshes[mesh].closed; }
@@ -75,7 +92,7 @@ private:
     std::unique_ptr<EmbreeScene> geometry_;
     SunSource sun_;
     SkySource sky_;
-    std::vector<MediumData> media_;
+    std::vector<Medium> media_;
     std::vector<MaterialData> materials_;
     std::vector<std::vector<int>> meshMaterials_;
     std::vector<int> meshInside_, meshOutside_;

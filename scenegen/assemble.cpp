@@ -48,15 +48,17 @@ ir::Material interfaceMaterial() {
     ir::Material m;
     m.name = "air-water-interface";
     m.type = ir::Material::Type::Dielectric;  // smooth Fresnel interface between the water mesh's media
-    m.solver = ir::Material::Solver::Fresnel;  // Table 10.4: Fresnel solver for the air-water interface
+    // No explicit solver: the dirsig estimator gives interfaces the Fresnel solver (Table 10.4).
     return m;
 }
 
-// Vertical sides where the domain cuts the sea: an absorbing boundary (see docs/scene-assembly.md).
-ir::Material wallMaterial() {
+// Vertical sides where the domain cuts the sea: an absorbing boundary, or with
+// water.horizontal: periodic a wall that rays cross to re-enter from the opposite side, so the
+// water is horizontally unbounded (see docs/scene-assembly.md).
+ir::Material wallMaterial(bool periodic) {
     ir::Material m;
-    m.name = "domain-wall";
-    m.type = ir::Material::Type::Black;
+    m.name = periodic ? "periodic-wall" : "domain-wall";
+    m.type = periodic ? ir::Material::Type::Periodic : ir::Material::Type::Black;
     return m;
 }
 
@@ -190,14 +192,14 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         in.terrainMaterials = terrainMaterials;
         in.terrainMaterialAt = materialAt;
         in.interfaceMaterial = interfaceMaterial().name;
-        in.wallMaterial = wallMaterial().name;
+        in.wallMaterial = wallMaterial(spec.periodic).name;
         for (const auto& p : placed) in.solids.push_back(p.solid);
         WaterVolumeResult wv = buildWaterVolume(in);
         out.seconds.waterPrism = wv.secondsPrism;
         out.seconds.waterTerrain = wv.secondsTerrain;
         out.seconds.waterBoolean = wv.secondsBoolean;
         out.seconds.waterSolids = wv.secondsSolids;
-        for (const auto& m : {interfaceMaterial(), wallMaterial()})
+        for (const auto& m : {interfaceMaterial(), wallMaterial(spec.periodic)})
             if (!known.count(m.name)) {
                 ir.materials.push_back(m);
                 known.insert(m.name);

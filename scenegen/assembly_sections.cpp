@@ -178,7 +178,9 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         s.mean = c.getDouble("mean", 1.0, 0, 100, "");
         s.stddev = c.getDouble("stddev", 0.0, 0, 100, "");
         if (s.stddev > 0 && !s.texture) c["stddev"].fail("a standard deviation needs a 'texture' image to shape");
-        s.solver = c.getEnum("solver", "classic", {"classic", "generic", "surface-pm"});
+        // Optional: only a solver written in the file is set (the dirsig estimator defaults to
+        // classic; other estimators refuse per-material solvers).
+        if (auto sv = c.optional("solver")) s.solver = sv->asEnum({"classic", "generic", "surface-pm"});
         t.classes.push_back(std::move(s));
     }
     if (t.classes.empty()) n["classes"].fail("define at least one class");

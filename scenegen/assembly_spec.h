@@ -54,7 +54,7 @@ struct TextureClassSpec {
     std::optional<std::filesystem::path> texture;  // grey image; absent = uniform
     double mean = 1.0;                     // target mean of the texture multiplier
     double stddev = 0.0;                   // target standard deviation of the multiplier
-    std::string solver = "classic";        // classic | generic | surface-pm
+    std::string solver;                    // classic | generic | surface-pm, or "" (not given)
     SourceLoc loc;
 };
 

@@ -10,6 +10,7 @@
 
 #include "core/solar_position.h"
 #include "core/units.h"
+#include "scenegen/water_constituents.h"
 
 namespace littoral::scenegen {
 
@@ -181,13 +182,14 @@ SensorSection parseSensor(const YamlNode& n) {
 }
 
 ProbeSection parseProbe(const YamlNode& n) {
-    n.expectKeys({"name", "position", "quantities", "medium"});
+    n.expectKeys({"name", "position", "quantities", "medium", "samples"});
     ProbeSection p;
     p.name = n["name"].asString();
     p.position = parseVec3(n["position"]);
     for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum({"Ed", "Eu", "Eod", "Eou", "Lu"}));
     if (p.quantities.empty()) n["quantities"].fail("list at least one of Ed, Eu, Eod, Eou, Lu");
     p.medium = n.getEnum("medium", "auto", {"auto", "air", "water"});
+    if (auto sm = n.optional("samples")) p.samples = static_cast<int>(sm->asInt(2, 1 << 30));
     return p;
 }
 
@@ -197,7 +199,10 @@ MaterialSection parseMaterial(const YamlNode& n) {
     m.loc = n.loc();
     m.name = n["name"].asString();
     m.type = n.getEnum("type", "lambertian", {"lambertian", "black"});
-    m.solver = n.getEnum("solver", "classic", {"classic", "generic", "surface-pm"});
+    if (auto sv = n.optional("solver")) {
+        if (m.type == "black") sv->fail("a black material has no radiometry solver; remove 'solver'");
+        m.solver = sv->asEnum({"classic", "generic", "surface-pm"});
+    }
     if (m.type == "black") {
         if (n.has("reflectance")) n["reflectance"].fail("a black material reflects nothing; remove 'reflectance'");
     } else {
@@ -206,43 +211,151 @@ MaterialSection parseMaterial(const YamlNode& n) {
     return m;
 }
 
-void parseWater(const YamlNode& n, SceneSpec* spec) {
-    n.expectKeys({"level_m", "surface", "optics"});
+ir::PhaseFunction parsePhase(const YamlNode& ph) {
+    ph.expectKeys({"type", "g", "backscatter_fraction"});
+    using T = ir::PhaseFunction::Type;
+    ir::PhaseFunction p;
+    p.type = *parseName<T>(ph["type"].asEnum(allNames<T>()));
+    if (p.type == T::HenyeyGreenstein) p.g = ph["g"].asDouble(-0.999, 0.999);
+    else if (ph.has("g")) ph["g"].fail("'g' is only used by the henyey-greenstein phase function");
+    if (p.type == T::FournierForand) p.backscatterFraction = ph["backscatter_fraction"].asDouble(1e-4, 0.4999);
+    else if (ph.has("backscatter_fraction"))
+        ph["backscatter_fraction"].fail("'backscatter_fraction' is only used by the fournier-forand phase function");
+    return p;
+}
+
+ir::PhaseFunction phaseToIr(const PhaseSpec& p) {
+    using T = ir::PhaseFunction::Type;
+    ir::PhaseFunction f;
+    switch (p.kind) {
+        case PhaseSpec::Kind::Isotropic: f.type = T::Isotropic; break;
+        case PhaseSpec::Kind::HenyeyGreenstein: f.type = T::HenyeyGreenstein, f.g = p.parameter; break;
+        case PhaseSpec::Kind::RayleighLike: f.type = T::RayleighLike, f.k = p.parameter; break;
+        case PhaseSpec::Kind::FournierForand: f.type = T::FournierForand, f.backscatterFraction = p.parameter; break;
+        case PhaseSpec::Kind::Petzold: f.type = T::Petzold; break;
+    }
+    return f;
+}
+
+// Grid on which constituent spectra are tabulated: 5 nm steps over the render bands.
+std::vector<double> constituentGrid(const std::vector<Band>& bands) {
+    double lo = bands.front().lo, hi = bands.front().hi;
+    for (const Band& b : bands) lo = std::min(lo, b.lo), hi = std::max(hi, b.hi);
+    std::vector<double> wl;
+    const int n = std::max(1, static_cast<int>(std::ceil((hi - lo) / 0.005 - 1e-9)));
+    for (int i = 0; i <= n; ++i) wl.push_back(lo + (hi - lo) * i / n);
+    return wl;
+}
+
+// The IOP keys shared by water.optics and each of its layers: a preset, a constituent mix, or
+// absorption and scattering given directly; `phase` replaces the phase function of every
+// scattering constituent.
+void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o) {
+    o->loc = n.loc();
+    const int given = n.has("preset") + n.has("constituents") + (n.has("absorption_per_m") || n.has("scattering_per_m"));
+    if (given > 1) n.fail("give one of 'preset', 'constituents' or absorption_per_m/scattering_per_m");
+    if (auto p = n.optional("preset")) {
+        const std::string name = p->asEnum(waterPresetNames());
+        const WaterIops w = waterPreset(name);
+        o->preset = name;
+        o->absorption = w.absorption();
+        for (const IopComponent& c : w.components)
+            if (!(c.scattering.isConstant() && c.scattering.values()[0] == 0.0))
+                o->scatterers.push_back({c.name, c.scattering, phaseToIr(c.phase)});
+    } else if (auto c = n.optional("constituents")) {
+        c->expectKeys({"pure_water", "chlorophyll_mg_m3", "sediment_g_m3", "cdom_440_per_m", "cdom_slope_per_nm",
+                       "particle_phase"});
+        WaterComposition comp;
+        const std::string pw = c->getEnum("pure_water", "sea", {"sea", "fresh", "none"});
+        comp.includePureWater = pw != "none";
+        comp.water = pw == "fresh" ? WaterKind::Fresh : WaterKind::Sea;
+        comp.chlorophyllMgM3 = c->getDouble("chlorophyll_mg_m3", 0, 0, 1000, "mg m^-3");
+        comp.sedimentGM3 = c->getDouble("sediment_g_m3", 0, 0, 10000, "g m^-3");
+        comp.cdomA440PerM = c->getDouble("cdom_440_per_m", 0, 0, 100, "m^-1");
+        comp.cdomSlopePerNm = c->getDouble("cdom_slope_per_nm", 0.014, 0.001, 0.1, "nm^-1");
+        if (auto pp = c->optional("particle_phase")) {
+            const ir::PhaseFunction f = parsePhase(*pp);
+            using T = ir::PhaseFunction::Type;
+            const PhaseSpec ps = f.type == T::HenyeyGreenstein ? PhaseSpec::henyeyGreenstein(f.g)
+                               : f.type == T::FournierForand   ? PhaseSpec::fournierForand(f.backscatterFraction)
+                               : f.type == T::Petzold          ? PhaseSpec::petzold()
+                               : f.type == T::RayleighLike     ? PhaseSpec::rayleighLike(f.k)
+                                                               : PhaseSpec::isotropic();
+            comp.phytoplanktonPhase = comp.sedimentPhase = ps;
+        }
+        WaterIops w;
+        try {
+            w = computeIops(comp, constituentGrid(bands));
+        } catch (const InputError& e) {
+            c->fail(e.message());
+        }
+        o->preset = "constituents";
+        o->absorption = w.absorption();
+        for (const IopComponent& k : w.components)
+            if (!(k.scattering.isConstant() && k.scattering.values()[0] == 0.0))
+                o->scatterers.push_back({k.name, k.scattering, phaseToIr(k.phase)});
+    } else {
+        if (auto a = n.optional("absorption_per_m")) o->absorption = parseSpectrum(*a, 0, 1000, "m^-1");
+        if (auto b = n.optional("scattering_per_m")) {
+            const Spectrum sb = parseSpectrum(*b, 0, 1000, "m^-1");
+            if (!(sb.isConstant() && sb.values()[0] == 0.0))
+                o->scatterers.push_back({"particles", sb, {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88}});
+        }
+    }
+    if (auto ph = n.optional("phase")) {
+        const ir::PhaseFunction f = parsePhase(*ph);
+        for (auto& sc : o->scatterers) sc.phase = f;
+        o->phaseGiven = true;
+    }
+}
+
+void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* spec) {
+    n.expectKeys({"level_m", "surface", "optics", "horizontal"});
     spec->hasWater = true;
     spec->waterLevel = n.getDouble("level_m", 0.0, -1e4, 1e4, "m");
+    spec->periodic = n.getEnum("horizontal", "bounded", {"bounded", "periodic"}) == "periodic";
     if (auto s = n.optional("surface")) spec->waterSurface = *s;
     auto& o = spec->waterOptics;
     if (auto op = n.optional("optics")) {
-        op->expectKeys({"preset", "refractive_index", "absorption_per_m", "scattering_per_m", "phase", "interface"});
-        if (auto p = op->optional("preset")) {
-            const std::string name = p->asEnum(iopPresetNames());
-            iopPreset(name, &o);
-            if (op->has("absorption_per_m") || op->has("scattering_per_m"))
-                op->fail("give either 'preset' or absorption_per_m/scattering_per_m, not both");
-        } else {
-            if (auto a = op->optional("absorption_per_m")) o.absorption = parseSpectrum(*a, 0, 1000, "m^-1");
-            if (auto b = op->optional("scattering_per_m")) o.scattering = parseSpectrum(*b, 0, 1000, "m^-1");
-        }
+        o.loc = op->loc();
+        op->expectKeys({"preset", "constituents", "refractive_index", "absorption_per_m", "scattering_per_m", "phase",
+                        "interface", "layers"});
         if (auto ri = op->optional("refractive_index")) o.refractiveIndex = parseSpectrum(*ri, 1.0, 3.0, "");
-        if (auto ph = op->optional("phase")) {
-            ph->expectKeys({"type", "g"});
-            const std::string t = (*ph)["type"].asEnum({"isotropic", "henyey-greenstein", "petzold", "rayleigh"});
-            using T = ir::PhaseFunction::Type;
-            o.phase.type = t == "isotropic" ? T::Isotropic
-                         : t == "henyey-greenstein" ? T::HenyeyGreenstein
-                         : t == "petzold" ? T::Petzold : T::Rayleigh;
-            if (o.phase.type == T::HenyeyGreenstein) o.phase.g = (*ph)["g"].asDouble(-0.999, 0.999);
-            else if (ph->has("g")) (*ph)["g"].fail("'g' is only used by the henyey-greenstein phase function");
-            else o.phase.g = 0;
+        if (auto ls = op->optional("layers")) {
+            for (const char* k : {"preset", "constituents", "absorption_per_m", "scattering_per_m", "phase"})
+                if (op->has(k)) (*op)[k].fail("give the IOPs of each layer under 'layers', not beside it");
+            double expectTop = 0;
+            for (const auto& it : ls->items()) {
+                it.expectKeys({"depth_m", "preset", "constituents", "absorption_per_m", "scattering_per_m", "phase"});
+                const auto d = it["depth_m"].asDoubleList(0, 1e5, "m");
+                if (d.size() != 2 || !(d[1] > d[0])) it["depth_m"].fail("expected [top, bottom] depths with top < bottom");
+                if (d[0] != expectTop)
+                    it["depth_m"].fail(o.layers.empty()
+                                           ? fmt::format("the first layer must start at depth 0 (the surface), not {} m", d[0])
+                                           : fmt::format("layers must be contiguous: this layer starts at {} m but the "
+                                                         "one above ends at {} m ({})",
+                                                         d[0], expectTop, d[0] > expectTop ? "a gap" : "an overlap"));
+                expectTop = d[1];
+                LayerOptics l;
+                parseIops(it, bands, &l);
+                o.layerTops.push_back(d[0]);
+                o.layers.push_back(std::move(l));
+            }
+            if (o.layers.empty()) ls->fail("list at least one layer");
+        } else {
+            parseIops(*op, bands, &o.iops);
         }
         o.interfaceSolver = op->getEnum("interface", "fresnel", {"fresnel"});
     }
 }
 
 void parseRender(const YamlNode& n, RenderSection* r) {
-    n.expectKeys({"bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
-                  "probe_samples", "photons", "search_radius_m", "march_step_m"});
+    n.expectKeys({"estimator", "bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
+                  "probe_samples", "probe_batches", "photons", "search_radius_m", "march_step_m"});
     auto& s = r->settings;
+    if (auto e = n.optional("estimator")) {
+        s.estimator = *parseName<ir::Estimator>(e->asEnum(allNames<ir::Estimator>()));
+    }
     if (auto b = n.optional("bands")) {
         s.bands.clear();
         if (b->isMap()) {
@@ -261,21 +374,38 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     }
     s.seed = static_cast<uint64_t>(n.getInt("seed", 1, 0, (1LL << 62)));
     s.threads = static_cast<int>(n.getInt("threads", 0, 0, 1024));
-    s.maxBounces = static_cast<int>(n.getInt("max_bounces", 8, 0, 1000));
-    s.maxSpecularDepth = static_cast<int>(n.getInt("max_specular_depth", s.maxSpecularDepth, 0, 1000));
-    s.hemisphereSamples = static_cast<int>(n.getInt("hemisphere_samples", 64, 1, 1 << 20));
-    s.probeSamples = static_cast<int>(n.getInt("probe_samples", s.probeSamples, 2, 1 << 26));
+    // Optional settings: only the ones written are set (unset = the estimator's default), and
+    // each remembers its location so "not read by this estimator" points here.
+    auto optInt = [&](const YamlNode& node, const char* key, const std::string& sceneKey, long long lo, long long hi,
+                      auto* out) {
+        if (auto v = node.optional(key)) {
+            *out = static_cast<std::decay_t<decltype(**out)>>(v->asInt(lo, hi));
+            s.locations[sceneKey] = v->loc();
+        }
+    };
+    auto optDouble = [&](const YamlNode& node, const char* key, const std::string& sceneKey, double lo, double hi,
+                         std::optional<double>* out) {
+        if (auto v = node.optional(key)) {
+            *out = v->asDouble(lo, hi, "m");
+            s.locations[sceneKey] = v->loc();
+        }
+    };
+    optInt(n, "max_bounces", "max_bounces", 0, 100000, &s.maxBounces);
+    optInt(n, "max_specular_depth", "max_specular_depth", 0, 100000, &s.maxSpecularDepth);
+    optInt(n, "hemisphere_samples", "hemisphere_samples", 1, 1 << 20, &s.hemisphereSamples);
+    optInt(n, "probe_samples", "probe_samples", 2, 1 << 30, &s.probeSamples);
+    optInt(n, "probe_batches", "probe_batches", 2, 4096, &s.probeBatches);
     if (auto p = n.optional("photons")) {
         p->expectKeys({"surface", "volume"});
-        s.surfacePhotons = static_cast<uint64_t>(p->getInt("surface", 0, 0, 10'000'000'000LL));
-        s.volumePhotons = static_cast<uint64_t>(p->getInt("volume", 0, 0, 10'000'000'000LL));
+        optInt(*p, "surface", "photons.surface", 0, 10'000'000'000LL, &s.surfacePhotons);
+        optInt(*p, "volume", "photons.volume", 0, 10'000'000'000LL, &s.volumePhotons);
     }
     if (auto sr = n.optional("search_radius_m")) {
         sr->expectKeys({"surface", "volume"});
-        s.surfaceSearchRadius = sr->getDouble("surface", s.surfaceSearchRadius, 1e-4, 100, "m");
-        s.volumeSearchRadius = sr->getDouble("volume", s.volumeSearchRadius, 1e-4, 100, "m");
+        optDouble(*sr, "surface", "search_radius_m.surface", 1e-4, 100, &s.surfaceSearchRadius);
+        optDouble(*sr, "volume", "search_radius_m.volume", 1e-4, 100, &s.volumeSearchRadius);
     }
-    s.marchStep = n.getDouble("march_step_m", s.marchStep, 1e-4, 100, "m");
+    optDouble(n, "march_step_m", "march_step_m", 1e-4, 100, &s.marchStep);
 }
 
 template <class T>
@@ -287,41 +417,6 @@ void checkUniqueNames(const std::vector<T>& items, const char* what, const YamlN
 }
 
 }  // namespace
-
-std::vector<std::string> iopPresetNames() { return {"pure", "low", "moderate", "high", "coastal", "bay", "turbid"}; }
-
-bool iopPreset(const std::string& name, WaterOptics* o) {
-    const std::vector<double> wl = {0.4, 0.5, 0.6};
-    auto tab = [&](std::vector<double> v) { return Spectrum::tabulated(wl, v, "IOP preset " + name); };
-    o->preset = name;
-    // Table 10.3 of the dissertation: chlorophyll + TSS (+ CDOM for absorption), summed per
-    // wavelength (spec/seed-ch05-10.md §3.4). Pure water is not included, as in the source.
-    if (name == "low") {
-        o->absorption = tab({0.020562, 0.006904, 0.002113});
-        o->scattering = tab({0.084518, 0.069118, 0.058300});
-    } else if (name == "moderate") {
-        o->absorption = tab({0.102812, 0.034525, 0.010567});
-        o->scattering = tab({0.422594, 0.345598, 0.291507});
-    } else if (name == "high") {
-        o->absorption = tab({0.205626, 0.069051, 0.021136});
-        o->scattering = tab({0.845189, 0.691194, 0.583016});
-    } else if (name == "coastal") {  // Table 9.3, group #1 (spectrally flat)
-        o->absorption = Spectrum::constant(0.038);
-        o->scattering = Spectrum::constant(0.350);
-    } else if (name == "bay") {  // Table 9.3, group #3
-        o->absorption = Spectrum::constant(0.143);
-        o->scattering = Spectrum::constant(0.180);
-    } else if (name == "turbid") {  // Table 9.3, group #4b
-        o->absorption = Spectrum::constant(0.268);
-        o->scattering = Spectrum::constant(0.680);
-    } else if (name == "pure") {  // no attenuation: a purely refracting medium
-        o->absorption = Spectrum::constant(0.0);
-        o->scattering = Spectrum::constant(0.0);
-    } else {
-        return false;
-    }
-    return true;
-}
 
 SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
     root.expectKeys({"scene", "sun", "sky", "sensors", "probes", "water", "bathymetry", "objects", "materials",
@@ -352,11 +447,11 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         for (const auto& it : s->items()) spec.materials.push_back(parseMaterial(it));
         checkUniqueNames(spec.materials, "material", *s);
     }
-    if (auto s = root.optional("water")) parseWater(*s, &spec);
+    if (auto s = root.optional("render")) parseRender(*s, &spec.render);
+    if (auto s = root.optional("water")) parseWater(*s, spec.render.settings.bands, &spec);
     spec.bathymetry = root.optional("bathymetry");
     spec.objects = root.optional("objects");
     spec.textureClasses = root.optional("texture_classes");
-    if (auto s = root.optional("render")) parseRender(*s, &spec.render);
 
     // Every spectrum must cover every band: checked here so the error names the scene file.
     const auto& bands = spec.render.settings.bands;
@@ -370,9 +465,24 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         for (size_t i = 0; i < spec.materials.size(); ++i)
             checkCover(spec.materials[i].reflectance, ms->at(i), "reflectance of '" + spec.materials[i].name + "'");
     if (auto w = root.optional("water")) {
-        checkCover(spec.waterOptics.absorption, *w, "water absorption");
-        checkCover(spec.waterOptics.scattering, *w, "water scattering");
-        checkCover(spec.waterOptics.refractiveIndex, *w, "water refractive index");
+        const auto& o = spec.waterOptics;
+        std::vector<const LayerOptics*> all = {&o.iops};
+        if (!o.layers.empty()) all.clear();
+        for (const auto& l : o.layers) all.push_back(&l);
+        for (const LayerOptics* l : all) {
+            checkCover(l->absorption, *w, "water absorption");
+            for (const auto& sc : l->scatterers) checkCover(sc.scattering, *w, "water scattering (" + sc.name + ")");
+        }
+        checkCover(o.refractiveIndex, *w, "water refractive index");
+        // Every accepted setting is read: a phase function written in the file is used only where
+        // light is scattered rather than lost, i.e. by the path estimator (the dirsig estimator
+        // treats scattering as loss, Beer–Lambert with c = a + b).
+        if (spec.render.settings.estimator == ir::Estimator::Dirsig)
+            for (const LayerOptics* l : all)
+                if (l->phaseGiven)
+                    throw InputError(l->loc, "water.optics phase: not used: the dirsig estimator treats scattering "
+                                             "as loss (Beer–Lambert with c = a + b); use render.estimator: path for "
+                                             "in-water scattering, or remove 'phase'");
     }
     if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
     if (spec.sky.radiance) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
@@ -457,23 +567,44 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
         ir->sky.radiance = spec.sky.radiance.value_or(Spectrum::constant(0.0));
         ir->sun.irradiance = spec.sun.irradiance.value_or(Spectrum::constant(0.0));
     }
+    ir->domain.x0 = spec.scene.x0;
+    ir->domain.x1 = spec.scene.x1;
+    ir->domain.y0 = spec.scene.y0;
+    ir->domain.y1 = spec.scene.y1;
+    ir->domain.periodic = spec.hasWater && spec.periodic;
     if (spec.hasWater) {
+        const WaterOptics& o = spec.waterOptics;
         ir::Medium w;
         w.name = "water";
-        w.refractiveIndex = spec.waterOptics.refractiveIndex;
-        w.absorption = spec.waterOptics.absorption;
-        w.scattering = spec.waterOptics.scattering;
-        w.phase = spec.waterOptics.phase;
+        w.origin = o.loc;
+        w.refractiveIndex = o.refractiveIndex;
+        auto layerOf = [](const LayerOptics& l) {
+            ir::Layer ly;
+            ly.absorption = l.absorption;
+            ly.scatterers = l.scatterers;
+            return ly;
+        };
+        if (o.layers.empty()) {
+            w.layers = {layerOf(o.iops)};
+            if (!o.iops.preset.empty()) ir->metadata["water.iop_preset"] = o.iops.preset;
+        } else {
+            w.layers.clear();
+            for (size_t i = 0; i < o.layers.size(); ++i) {
+                ir::Layer ly = layerOf(o.layers[i]);
+                ly.zTop = i == 0 ? ir::kInfinity : spec.waterLevel - o.layerTops[i];
+                ly.zBottom = i + 1 < o.layers.size() ? spec.waterLevel - o.layerTops[i + 1] : -ir::kInfinity;
+                w.layers.push_back(ly);
+            }
+        }
         ir->media.push_back(w);
-        ir->metadata["water.iop_preset"] = spec.waterOptics.preset;
     }
     for (const auto& m : spec.materials) {
         ir::Material mt;
         mt.name = m.name;
         mt.type = m.type == "black" ? ir::Material::Type::Black : ir::Material::Type::Lambertian;
-        mt.solver = m.solver == "generic" ? ir::Material::Solver::Generic
-                  : m.solver == "surface-pm" ? ir::Material::Solver::SurfacePM : ir::Material::Solver::Classic;
+        if (!m.solver.empty()) mt.solver = parseName<ir::Material::Solver>(m.solver);
         mt.reflectance = m.reflectance;
+        mt.origin = m.loc;
         ir->materials.push_back(mt);
     }
     for (const auto& s : spec.sensors) ir->sensors.push_back(placeSensor(s, spec.waterLevel, spec.hasWater));
@@ -482,6 +613,7 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
         pr.name = p.name;
         pr.position = p.position;
         pr.quantities = p.quantities;
+        pr.samples = p.samples;
         if (p.medium == "water" || (p.medium == "auto" && spec.hasWater && p.position.z < spec.waterLevel))
             pr.medium = "water";
         ir->probes.push_back(pr);

@@ -66,23 +66,36 @@ struct ProbeSection {
     Vec3 position;
     std::vector<std::string> quantities;
     std::string medium = "auto";
+    std::optional<int> samples;  // overrides render.probe_samples for this probe
 };
 
 struct MaterialSection {
     std::string name;
     std::string type;    // lambertian | textured | black
-    std::string solver;  // classic | generic | surface-pm
+    std::string solver;  // classic | generic | surface-pm, or "" when not given
     Spectrum reflectance = Spectrum::constant(0.0);
+    SourceLoc loc;
+};
+
+// The IOPs of one water layer (or of the whole water body): total absorption and the scattering
+// constituents (each with its b(lambda) and phase function).
+struct LayerOptics {
+    Spectrum absorption = Spectrum::constant(0.0);  // m^-1
+    std::vector<ir::Scatterer> scatterers;
+    bool phaseGiven = false;     // `phase` was written in the file (not the default)
+    std::string preset;          // the named IOP set used, if any
     SourceLoc loc;
 };
 
 struct WaterOptics {
     Spectrum refractiveIndex = Spectrum::constant(1.34);
-    Spectrum absorption = Spectrum::constant(0.0);  // m^-1
-    Spectrum scattering = Spectrum::constant(0.0);  // m^-1
-    ir::PhaseFunction phase{ir::PhaseFunction::Type::HenyeyGreenstein, 0.88};
-    std::string preset;  // the named IOP set used, if any
+    LayerOptics iops;                     // homogeneous water (no `layers`)
+    // Depth-stratified water: layer i spans depths [depths[i], depths[i+1]) metres below the
+    // still-water level; the last layer continues downward without limit.
+    std::vector<double> layerTops;        // depth of each layer's top (first = 0)
+    std::vector<LayerOptics> layers;
     std::string interfaceSolver = "fresnel";  // fresnel (specular) | cox-munk (rough, later)
+    SourceLoc loc;
 };
 
 struct RenderSection {
@@ -99,6 +112,7 @@ struct SceneSpec {
     std::vector<MaterialSection> materials;
     bool hasWater = false;
     double waterLevel = 0.0;
+    bool periodic = false;  // water.horizontal: periodic
     WaterOptics waterOptics;
     // Geometry-producing sections, kept as checked YAML nodes for their modules' parsers.
     std::optional<YamlNode> waterSurface, bathymetry, objects, textureClasses;
@@ -114,10 +128,6 @@ Spectrum parseSpectrum(const YamlNode& node, double min, double max, std::string
 SceneSpec loadSceneFile(const std::filesystem::path& file);
 SceneSpec parseScene(const YamlNode& root, const std::filesystem::path& file);
 
-// Named IOP sets: dissertation Table 10.3 (low, moderate, high; sums of chlorophyll, TSS and
-// CDOM at 0.4/0.5/0.6 um) and Table 9.3 water groups. Returns false if unknown.
-std::vector<std::string> iopPresetNames();
-bool iopPreset(const std::string& name, WaterOptics* out);
 
 // Fills sun, sky, media ("water" when the scene has water), materials, sensors, probes and render
 // settings of the IR from the spec. Geometry (meshes) is added by the scene assembler.

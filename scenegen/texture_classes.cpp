@@ -130,8 +130,8 @@ std::vector<ir::Material> TextureClasses::materials() const {
         const auto& c = classes[k];
         ir::Material m;
         m.name = c.name;
-        m.solver = c.solver == "generic" ? ir::Material::Solver::Generic
-                 : c.solver == "surface-pm" ? ir::Material::Solver::SurfacePM : ir::Material::Solver::Classic;
+        if (!c.solver.empty()) m.solver = parseName<ir::Material::Solver>(c.solver);
+        m.origin = c.loc;
         if (textures[k].empty()) {
             m.type = ir::Material::Type::Lambertian;
             m.reflectance = c.reflectance.scaled(c.mean);

@@ -120,11 +120,23 @@ ir::SceneIR sampleIR() {
     s.sun.azimuth = -2.356194490192345;
     s.sun.irradiance = Spectrum::tabulated({0.35, 0.55, 0.75}, {1500.1, 1800.25, 1400.0 / 3.0});
     s.sky.radiance = Spectrum::constant(0.1 + 0.2);
+    s.render.estimator = ir::Estimator::Path;
+    s.render.probeSamples = 1 << 20;
+    s.render.marchStep = 0.25;
+    s.domain = {-10, 10, -5, 5, true};
+    // Two layers: the top one with pure water (Rayleigh-like) and particles (Fournier-Forand).
     ir::Medium w;
     w.name = "water";
     w.refractiveIndex = Spectrum::constant(1.34);
-    w.absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
-    w.phase = {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88};
+    w.layers.resize(2);
+    w.layers[0].zBottom = -2.5;
+    w.layers[0].absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
+    w.layers[0].scatterers = {
+        {"pure-water", Spectrum::constant(0.002), {ir::PhaseFunction::Type::RayleighLike, 0, 0}},
+        {"particles", Spectrum::constant(0.3), {ir::PhaseFunction::Type::FournierForand, 0, 0.0183}}};
+    w.layers[1].zTop = -2.5;
+    w.layers[1].absorption = Spectrum::constant(0.05);
+    w.layers[1].scatterers = {{"particles", Spectrum::constant(0.1), {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88, 0}}};
     s.media.push_back(w);
     ir::Material sand, iface, tex;
     sand.name = "sand";
@@ -180,6 +192,26 @@ TEST(SceneIR, RoundTripIsByteIdentical) {
     EXPECT_EQ(r.sun.irradiance.values(), s.sun.irradiance.values());
     EXPECT_EQ(r.meshes[0].data.positions, s.meshes[0].data.positions);
     EXPECT_EQ(r.materials[2].texture, "textures/grass.exr");
+    EXPECT_EQ(r.render.estimator, ir::Estimator::Path);
+    EXPECT_EQ(r.render.probeSamples, 1 << 20);
+    EXPECT_FALSE(r.render.maxBounces.has_value());  // unset stays unset
+    EXPECT_TRUE(r.domain.periodic);
+    ASSERT_EQ(r.media[0].layers.size(), 2u);
+    EXPECT_EQ(r.media[0].layers[0].zTop, ir::kInfinity);
+    EXPECT_EQ(r.media[0].layers[1].zBottom, -ir::kInfinity);
+    EXPECT_EQ(r.media[0].layers[0].scatterers[1].phase.backscatterFraction, 0.0183);
+}
+
+TEST(SceneIR, LayerStackMustBeContiguous) {
+    auto s = sampleIR();
+    s.media[0].layers[1].zTop = -3.0;  // a gap between -2.5 and -3.0
+    try {
+        ir::fromJsonText(ir::toJsonText(s), "scene.json");
+        FAIL() << "a gap between layers was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("media[0].layers: layers 0 and 1 leave a gap or overlap"), std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(SceneIR, StrictReaderNamesThePath) {

@@ -12,7 +12,7 @@
 #include "core/units.h"
 #include "render/camera.h"
 #include "render/embree_scene.h"
-#include "render/materials.h"
+#include "render/bxdf.h"
 #include "render/probes.h"
 #include "render/render_job.h"
 #include "render/renderer.h"
@@ -384,7 +384,8 @@ TEST(Sampling, LambertianTripleAndCone) {
     for (int k = 0; k < 10000; ++k) {
         RandomStream rng(5, 0, k);
         const Vec3 wo = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, (k % 2 ? -1.0 : 1.0) * rng.uniform()});
-        const auto s = bxdf.sample(wo, rng.uniform(), rng.uniform());
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        const auto s = bxdf.sample(wo, 0.5, Vec2{u1, u2});
         ASSERT_TRUE(s.has_value());
         EXPECT_GT(s->wi.z * wo.z, 0);
         EXPECT_NEAR(s->f, bxdf.f(wo, s->wi), 1e-15);

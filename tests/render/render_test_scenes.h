@@ -115,18 +115,15 @@ inline ir::Material material(const std::string& name, ir::Material::Type type, i
     ir::Material m;
     m.name = name;
     m.type = type;
-    m.solver = solver;
+    // Only materials that have a radiometry solver take one (the dirsig estimator refuses a solver
+    // on a black material).
+    if (type != ir::Material::Type::Black && type != ir::Material::Type::Periodic) m.solver = solver;
     m.reflectance = Spectrum::constant(reflectance);
     return m;
 }
 
-inline ir::Medium water(double a, double b, double n = 1.34) {
-    ir::Medium w;
-    w.name = "water";
-    w.refractiveIndex = Spectrum::constant(n);
-    w.absorption = Spectrum::constant(a);
-    w.scattering = Spectrum::constant(b);
-    return w;
+inline ir::Medium water(double a, double b, double n = 1.34, ir::PhaseFunction phase = {}) {
+    return ir::Medium::homogeneous("water", n, Spectrum::constant(a), Spectrum::constant(b), phase);
 }
 
 inline ir::Mesh meshOf(const std::string& name, TriMesh data, std::vector<std::string> materials,

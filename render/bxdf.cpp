@@ -1,4 +1,4 @@
-#include "render/materials.h"
+#include "render/bxdf.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,16 +19,16 @@ double fresnelDielectric(double cosI, double n1, double n2) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
-double LambertianBxDF::f(const Vec3& wo, const Vec3& wi) const {
+double LambertianBxDF::f(const Vec3& wo, const Vec3& wi, TransportMode) const {
     return (wo.z > 0) == (wi.z > 0) ? r * kInvPi : 0.0;
 }
 
-double LambertianBxDF::pdf(const Vec3& wo, const Vec3& wi) const {
+double LambertianBxDF::pdf(const Vec3& wo, const Vec3& wi, TransportMode) const {
     return (wo.z > 0) == (wi.z > 0) ? std::abs(wi.z) * kInvPi : 0.0;
 }
 
-std::optional<BSDFSample> LambertianBxDF::sample(const Vec3& wo, double u1, double u2) const {
-    Vec3 wi = sampleCosineHemisphere(u1, u2);
+std::optional<BSDFSample> LambertianBxDF::sample(const Vec3& wo, double, const Vec2& u, TransportMode) const {
+    Vec3 wi = sampleCosineHemisphere(u.x, u.y);
     if (wo.z < 0) wi.z = -wi.z;
     if (wi.z == 0) return std::nullopt;
     BSDFSample s;
@@ -64,7 +64,7 @@ bool DielectricBxDF::specularPair(const Vec3& wo, TransportMode mode, BSDFSample
     return true;
 }
 
-std::optional<BSDFSample> DielectricBxDF::sample(const Vec3& wo, double u, TransportMode mode) const {
+std::optional<BSDFSample> DielectricBxDF::sample(const Vec3& wo, double u, const Vec2&, TransportMode mode) const {
     BSDFSample r, t;
     const bool canTransmit = specularPair(wo, mode, &r, &t);
     if (!canTransmit) return r;  // TIR: reflection with probability 1 (f |cos| = 1)

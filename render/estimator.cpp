@@ -1,0 +1,263 @@
+#include "render/estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "core/suggest.h"
+#include "core/units.h"
+#include "render/sampling.h"
+
+namespace littoral::render {
+
+std::unique_ptr<Estimator> makeDirsigEstimator(const Scene&, const RenderConfig&, BandGroup);
+std::unique_ptr<Estimator> makePathEstimator(const Scene&, const RenderConfig&, BandGroup);
+
+namespace {
+
+// Reads optional render settings with their defaults and ranges, remembering which were read.
+class SettingsReader {
+public:
+    explicit SettingsReader(const ir::RenderSettings& s) : s_(s) {}
+
+    template <class T>
+    T get(const std::optional<T>& v, const char* irKey, T def, T lo, T hi, const char* unit = "") {
+        read_.insert(irKey);
+        if (!v) return def;
+        if (!(*v >= lo && *v <= hi))
+            fail(irKey, fmt::format("{} is out of range; allowed [{}, {}]{}{}", *v, lo, hi, *unit ? " " : "", unit));
+        return *v;
+    }
+
+    // Every setting that is set but was not read is an error naming it.
+    void finish(std::string_view estimator, const std::string& hint) const {
+        std::vector<std::string> readable;
+        for (const auto& k : ir::renderSettingKeys())
+            if (read_.count(k.irKey)) readable.push_back(k.sceneKey);
+        for (const auto& k : ir::renderSettingKeys())
+            if (k.isSet(s_) && !read_.count(k.irKey))
+                fail(k.irKey, fmt::format("is set, but the '{}' estimator does not read it{} (it reads: {})", estimator,
+                                          hint.empty() ? "" : "; " + hint, joinList(readable)));
+    }
+
+    [[noreturn]] void fail(const char* irKey, const std::string& msg) const {
+        for (const auto& k : ir::renderSettingKeys()) {
+            if (std::string_view(k.irKey) != irKey) continue;
+            const auto it = s_.locations.find(k.sceneKey);
+            if (it != s_.locations.end()) throw InputError(it->second, fmt::format("render.{}: {}", k.sceneKey, msg));
+        }
+        throw InputError(fmt::format("render.{}: {}", irKey, msg));
+    }
+
+private:
+    const ir::RenderSettings& s_;
+    std::set<std::string> read_;
+};
+
+[[noreturn]] void materialError(const ir::Material& m, size_t i, const std::string& msg) {
+    if (!m.origin.file.empty()) throw InputError(m.origin, fmt::format("material '{}': {}", m.name, msg));
+    throw InputError(fmt::format("materials[{}] '{}': {}", i, m.name, msg));
+}
+
+}  // namespace
+
+RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
+    const ir::RenderSettings& s = ir.render;
+    RenderConfig c;
+    c.estimator = s.estimator;
+    SettingsReader r(s);
+    c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 16, 0, 100000);
+    c.probeSamples = r.get(s.probeSamples, "probe_samples", 4096, 2, 1 << 30);
+    c.probeBatches = r.get(s.probeBatches, "probe_batches", 16, 2, 4096);
+    if (c.probeBatches > c.probeSamples)
+        r.fail("probe_batches", fmt::format("{} batches cannot be formed from {} probe samples", c.probeBatches,
+                                            c.probeSamples));
+    using S = ir::Material::Solver;
+    using T = ir::Material::Type;
+    switch (s.estimator) {
+        case ir::Estimator::Dirsig: {
+            c.maxBounces = r.get(s.maxBounces, "max_bounces", 8, 0, 100000);
+            c.hemisphereSamples = r.get(s.hemisphereSamples, "hemisphere_samples", 64, 1, 1 << 20);
+            r.finish("dirsig", "photon maps (photons, search_radius_m, march_step_m) are not built by this version");
+            std::vector<std::string> standIns;
+            for (size_t i = 0; i < ir.materials.size(); ++i) {
+                const ir::Material& m = ir.materials[i];
+                const bool diffuse = m.type == T::Lambertian || m.type == T::Textured;
+                const bool interface = m.type == T::Dielectric || m.type == T::RoughDielectric;
+                S solver = interface ? S::Fresnel : S::Classic;
+                if (m.solver) {
+                    solver = *m.solver;
+                    if (!diffuse && !interface)
+                        materialError(m, i, fmt::format("a {} material has no radiometry solver; remove solver '{}'",
+                                                        nameOf(m.type), nameOf(solver)));
+                    if (diffuse && solver == S::Fresnel)
+                        materialError(m, i, "solver fresnel cannot evaluate a diffuse material (use classic, generic "
+                                            "or surface-pm)");
+                    if (interface && solver != S::Fresnel && solver != S::Generic)
+                        materialError(m, i, fmt::format("an interface needs the fresnel (or generic) solver, not {}",
+                                                        nameOf(solver)));
+                }
+                if (solver == S::SurfacePM) {
+                    // Until the surface photon map exists, Generic stands in: both estimate the same
+                    // integral (sky fraction plus background reflections, dissertation Ch. 6).
+                    standIns.push_back("'" + m.name + "'");
+                    solver = S::Generic;
+                }
+                c.solvers.push_back(solver);
+            }
+            if (!standIns.empty())
+                log::warnOnce("material(s) {}: the SurfacePM solver needs the surface photon map, which this version "
+                              "does not build; rendering with the Generic solver (same integral, hemisphere sampling)",
+                              joinList(standIns));
+            break;
+        }
+        case ir::Estimator::Path: {
+            c.maxBounces = r.get(s.maxBounces, "max_bounces", 1000, 0, 100000);
+            c.marchStep = r.get(s.marchStep, "march_step_m", 0.1, 1e-4, 1e4, "m");
+            r.finish("path", "");
+            for (size_t i = 0; i < ir.materials.size(); ++i) {
+                const ir::Material& m = ir.materials[i];
+                if (m.solver)
+                    materialError(m, i, fmt::format("the path estimator does not use per-material solvers; remove "
+                                                    "solver '{}' or choose estimator: dirsig",
+                                                    nameOf(*m.solver)));
+                c.solvers.push_back(S::Generic);
+            }
+            break;
+        }
+    }
+    return c;
+}
+
+std::vector<BandGroup> bandGroups(const Scene& scene) {
+    std::vector<BandGroup> groups;
+    const int nb = scene.bandCount();
+    auto sameIndex = [&](int a, int b) {
+        for (const Medium& m : scene.media())
+            if (m.n(a) != m.n(b)) return false;
+        return true;
+    };
+    int b = 0;
+    while (b < nb) {
+        BandGroup g{b, 1};
+        while (b + g.count < nb && g.count < kMaxGroupBands && sameIndex(b, b + g.count)) ++g.count;
+        groups.push_back(g);
+        b += g.count;
+    }
+    return groups;
+}
+
+Estimator::Estimator(const Scene& scene, const RenderConfig& config, BandGroup group)
+    : scene_(scene), config_(config), group_(group) {
+    LITTORAL_CHECK(group.count >= 1 && group.count <= kMaxGroupBands);
+    LITTORAL_CHECK(group.begin >= 0 && group.begin + group.count <= scene.bandCount());
+    LITTORAL_CHECK_EQ(config.solvers.size(), scene.materials().size());
+}
+
+std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderConfig& config, BandGroup group) {
+    switch (config.estimator) {
+        case ir::Estimator::Dirsig: return makeDirsigEstimator(scene, config, group);
+        case ir::Estimator::Path: return makePathEstimator(scene, config, group);
+    }
+    throw InternalError("unknown estimator");
+}
+
+EstimatorSet::EstimatorSet(const Scene& scene) : config_(makeRenderConfig(scene.ir())), groups_(bandGroups(scene)) {
+    for (const BandGroup& g : groups_) estimators_.push_back(Estimator::create(scene, config_, g));
+}
+
+Spec Estimator::bandValues(const std::vector<double>& v) const {
+    Spec s(group_.count);
+    for (int i = 0; i < group_.count; ++i) s[i] = v[group_.begin + i];
+    return s;
+}
+
+Spec Estimator::environment(const Vec3& d, bool withSun) const {
+    Spec L(group_.count);
+    if (d.z > 0) L = bandValues(scene_.sky().radiance);
+    const SunSource& sun = scene_.sun();
+    if (withSun && sun.inDisc(d)) {
+        // Uniform disc radiance L_sun = E_sun / Omega_sun (exact cone solid angle).
+        for (int i = 0; i < group_.count; ++i) L[i] += sun.irradiance[group_.begin + i] / sun.solidAngle;
+    }
+    return L;
+}
+
+Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium,
+                                      RandomStream& rng) const {
+    SunBeam beam;
+    beam.E = Spec(group_.count);
+    const SunSource& sun = scene_.sun();
+    // Draw the two numbers unconditionally so the random stream layout does not depend on
+    // geometry (keeps neighbouring pixels' streams aligned).
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    if (!sun.enabled) return beam;
+    const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
+    const Medium& md = scene_.media()[medium];
+    const double nm = md.n(group_.begin);
+    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
+    if (nm == 1.0 && !md.attenuating()) {
+        // In air: a straight shadow ray.
+        if (checkFacing && dot(ws, facing) <= 0) return beam;
+        if (scene_.geometry().occluded(spawnRay(p, ng, ws))) return beam;
+        beam.E = bandValues(sun.irradiance);
+        beam.toSun = ws;
+        beam.valid = true;
+        return beam;
+    }
+    // In a denser medium: the sun refracted through the interface above. The direction in the
+    // medium that a horizontal interface refracts toward ws (Snell, Eq. 4.1, air index 1):
+    Vec3 wt;
+    if (!refract(ws, Vec3{0, 0, 1}, 1.0 / nm, &wt)) return beam;
+    const Vec3 up = normalize(-wt);
+    if (checkFacing && dot(up, facing) <= 0) return beam;
+    SurfaceHit h;
+    Ray toSurface = spawnRay(p, ng, up);
+    // Follow the leg up, through periodic walls, to the interface above.
+    std::vector<std::pair<Ray, double>> legs;
+    for (int w = 0;; ++w) {
+        if (!scene_.geometry().intersect(toSurface, &h)) return beam;
+        if (!scene_.material(h).isPeriodicWall()) break;
+        const auto next = scene_.wrapRay(h, up);
+        if (!next || w >= Scene::kMaxWraps) return beam;
+        legs.emplace_back(toSurface, h.t);
+        toSurface = *next;
+    }
+    if (!scene_.material(h).isInterface()) return beam;
+    if (scene_.nearMedium(h) != medium) return beam;
+    const Medium& far = scene_.media()[scene_.farMedium(h)];
+    if (far.attenuating()) return beam;
+    const double nFar = far.n(group_.begin);
+    const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
+    const double cosW = std::abs(dot(up, nf));
+    Vec3 out;
+    if (!refract(-up, nf, nm / nFar, &out)) return beam;  // TIR at this facet
+    out = normalize(out);
+    if (!sun.inDisc(out)) return beam;                     // a tilted facet sends it elsewhere
+    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, out))) return beam;
+    const double cosA = std::abs(dot(out, nf));
+    const double T = 1.0 - fresnelDielectric(cosW, nm, nFar);
+    // Radiance in the medium T (nm/nFar)^2 L_sun over a solid angle compressed by
+    // (nFar/nm)^2 cos(theta_far)/cos(theta_medium): beam irradiance E_sun T cosA / cosW.
+    Spec atten = md.transmittance(toSurface, h.t, group_);
+    for (const auto& [leg, t] : legs) atten *= md.transmittance(leg, t, group_);
+    const double geom = T * cosA / cosW;
+    for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i];
+    beam.toSun = up;
+    beam.valid = true;
+    return beam;
+}
+
+Spec Estimator::directSun(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const {
+    const SunBeam b = sunBeam(p, n, n, medium, rng);
+    if (!b.valid) return Spec(group_.count);
+    const double c = dot(b.toSun, n);
+    if (c <= 0) return Spec(group_.count);
+    return b.E * (scalar ? 1.0 : c);
+}
+
+}  // namespace littoral::render

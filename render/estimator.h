@@ -1,0 +1,131 @@
+#pragma once
+// The Estimator interface: radiance along a ray, for sensors and probes alike.
+//
+// An estimator is chosen per render (`render.estimator`) and built once per band group by
+// Estimator::create, then shared by every sensor and probe of the render:
+//   dirsig  the dissertation's per-material radiometry solvers (Table 10.4): Classic and Generic for
+//           diffuse materials, Fresnel for interfaces; media attenuate by Beer–Lambert with c = a + b
+//           (dirsig_estimator.cpp);
+//   path    an unbiased volumetric path tracer: free-flight sampling, phase-function sampling,
+//           next-event estimation toward the sun and Russian roulette (path_estimator.cpp).
+// Adding an estimator is one file plus one line in the factory and in the Estimator name table.
+//
+// Settings: makeRenderConfig() reads every render setting the chosen estimator uses (with its
+// default and allowed range) and refuses, with an InputError naming it, any setting that is set
+// but that the estimator does not read, and any material solver the estimator does not honour.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "core/scene_ir.h"
+#include "render/scene.h"
+#include "render/spectral.h"
+
+namespace littoral::render {
+
+// The render settings, resolved (defaults applied, ranges checked) for the chosen estimator.
+struct RenderConfig {
+    ir::Estimator estimator = ir::Estimator::Dirsig;
+    int maxBounces = 8;          // dirsig: diffuse vertices per path (GRS semantics); path: scattering + diffuse vertices
+    int maxSpecularDepth = 16;   // interface events per path
+    int hemisphereSamples = 64;  // dirsig: rays at the first diffuse vertex
+    int probeSamples = 4096;     // sample paths per probe quantity
+    int probeBatches = 16;       // independent batches (standard errors from their spread)
+    double marchStep = 0.1;      // path: spacing of sun estimates along rays in scattering water (m)
+    // Per material (index as in the IR): the dirsig solver that evaluates it.
+    std::vector<ir::Material::Solver> solvers;
+};
+
+// Resolves and checks the render settings of a Scene IR (no geometry needed, so `littoral
+// check-scene` runs it too). InputError for an out-of-range value, a setting the estimator does
+// not read, or a material solver it cannot honour; errors carry the scene-file location when the
+// IR came from a scene file (RenderSettings::locations), else name scene.json's key.
+RenderConfig makeRenderConfig(const ir::SceneIR& ir);
+
+// Groups consecutive render bands into band groups (see BandGroup).
+std::vector<BandGroup> bandGroups(const Scene& scene);
+
+class Estimator {
+public:
+    Estimator(const Scene& scene, const RenderConfig& config, BandGroup group);
+    virtual ~Estimator() = default;
+    Estimator(const Estimator&) = delete;
+    Estimator& operator=(const Estimator&) = delete;
+
+    static std::unique_ptr<Estimator> create(const Scene& scene, const RenderConfig& config, BandGroup group);
+
+    // Radiance arriving at ray.o from direction -ray.d (unit), per band of the group, for a ray
+    // that starts in `medium` (a sensor ray: the solar disc counts wherever a path reaches it).
+    virtual Spec Li(const Ray& ray, int medium, RandomStream& rng) const = 0;
+    // The same radiance without the direct solar beam that reaches ray.o unscattered along a
+    // single refraction (the part directSun() below estimates): probes add that part separately.
+    virtual Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const = 0;
+
+    // The direct solar beam at p in `medium` on a plane with normal n (E_sun cos, or E_sun for
+    // scalar irradiance), by next-event estimation: a shadow ray in air, the refracted sun through
+    // the interface above in water (see SunBeam).
+    Spec directSun(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const;
+
+    const Scene& scene() const { return scene_; }
+    const RenderConfig& config() const { return config_; }
+    BandGroup group() const { return group_; }
+    int bandCount() const { return group_.count; }
+
+protected:
+    // The solar beam at a point: irradiance normal to the beam (per band, attenuated to the point)
+    // and the direction from the point toward the sun (in the point's medium).
+    struct SunBeam {
+        Spec E;
+        Vec3 toSun;
+        bool valid = false;
+    };
+    // Next-event estimate of the sun at p (offset off the surface with normal ng, or ng = 0 for a
+    // point inside a medium), drawing two numbers from rng whatever the geometry. If `facing` is
+    // not zero, directions with dot(toSun, facing) <= 0 are rejected before any ray is cast. In air: a shadow
+    // ray toward a uniformly sampled point of the disc. In a denser medium: the in-medium direction
+    // that a horizontal interface refracts toward that point is traced to the interface actually
+    // above, refracted through the facet hit (Snell, Fresnel T_f), and counted if it leaves inside
+    // the disc and reaches the sky unoccluded, with the medium's transmittance along the leg and
+    // the solid-angle compression cos(theta_air)/cos(theta_medium). Chains that reach the sun with
+    // no reflection and at most one transmission are covered by this estimate (SunChain).
+    SunBeam sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, RandomStream& rng) const;
+
+    // Radiance of the sky (and of the solar disc if withSun) seen along direction d.
+    Spec environment(const Vec3& d, bool withSun) const;
+    Spec bandValues(const std::vector<double>& v) const;
+
+    const Scene& scene_;
+    const RenderConfig& config_;
+    BandGroup group_;
+};
+
+// The estimators of one render: the resolved settings and one estimator per band group, built once
+// and shared by every sensor and probe.
+class EstimatorSet {
+public:
+    explicit EstimatorSet(const Scene& scene);
+    const RenderConfig& config() const { return config_; }
+    const std::vector<BandGroup>& groups() const { return groups_; }
+    const Estimator& forGroup(size_t i) const { return *estimators_[i]; }
+    size_t size() const { return estimators_.size(); }
+
+private:
+    RenderConfig config_;
+    std::vector<BandGroup> groups_;
+    std::vector<std::unique_ptr<Estimator>> estimators_;
+};
+
+// Which interface events since the last scattering vertex (diffuse hit, medium collision or probe)
+// a ray has gone through: the sun estimate at that vertex (a shadow ray in air, the refracted sun
+// in water) covers chains with no reflection and at most one transmission, so a ray reaching the
+// solar disc counts it only otherwise.
+struct SunChain {
+    bool fromSensor = true;  // no scattering vertex before: the disc always counts
+    bool reflected = false;
+    int transmissions = 0;
+    bool countsSun() const { return fromSensor || reflected || transmissions >= 2; }
+    static SunChain afterVertex() { return SunChain{false, false, 0}; }
+};
+
+}  // namespace littoral::render

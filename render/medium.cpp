@@ -1,0 +1,263 @@
+#include "render/medium.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace littoral::render {
+
+PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who) {
+    using T = ir::PhaseFunction::Type;
+    switch (p.type) {
+        case T::Isotropic: return PhaseFunction::isotropic();
+        case T::HenyeyGreenstein:
+            if (!(p.g > -1 && p.g < 1))
+                throw InputError(fmt::format("{}: henyey-greenstein g = {} is out of range; allowed (-1, 1)", who, p.g));
+            return PhaseFunction::henyeyGreenstein(p.g);
+        case T::Petzold: return PhaseFunction::petzold();
+        case T::FournierForand:
+            if (!(p.backscatterFraction > 0 && p.backscatterFraction < 0.5))
+                throw InputError(fmt::format("{}: fournier-forand backscatter_fraction = {} is out of range; allowed "
+                                             "(0, 0.5)",
+                                             who, p.backscatterFraction));
+            return PhaseFunction::fournierForand(p.backscatterFraction);
+        case T::RayleighLike:
+            if (!(p.k >= 0 && p.k <= 1))
+                throw InputError(fmt::format("{}: rayleigh k = {} is out of range; allowed [0, 1]", who, p.k));
+            return p.k == 1.0 ? PhaseFunction::rayleighLike() : PhaseFunction::molecularWater(p.k);
+    }
+    throw InternalError("unknown phase function type");
+}
+
+Medium Medium::air(size_t bandCount) {
+    Medium m;
+    m.n_.assign(bandCount, 1.0);
+    MediumLayer l;
+    l.a.assign(bandCount, 0.0);
+    l.b = l.a;
+    l.c = l.a;
+    m.layers_.push_back(std::move(l));
+    return m;
+}
+
+Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::string& who) : name_(m.name) {
+    const size_t nb = bands.size();
+    n_ = m.refractiveIndex.bandAverages(bands, who + " refractive_index");
+    for (size_t k = 0; k < nb; ++k)
+        if (!(n_[k] >= 1.0 - 1e-12))
+            throw InputError(fmt::format("{}: refractive index {} in band {} (need n >= 1)", who, n_[k], k));
+    if (const std::string err = ir::checkLayers(m); !err.empty()) throw InputError(fmt::format("{}: {}", who, err));
+    for (size_t li = 0; li < m.layers.size(); ++li) {
+        const ir::Layer& L = m.layers[li];
+        const std::string lw = m.layers.size() == 1 ? who : fmt::format("{} layer {}", who, li);
+        MediumLayer d;
+        d.zTop = L.zTop;
+        d.zBottom = L.zBottom;
+        d.a = L.absorption.bandAverages(bands, lw + " absorption");
+        d.b.assign(nb, 0.0);
+        std::vector<std::vector<double>> bi;
+        for (const ir::Scatterer& s : L.scatterers) {
+            const std::string sw = fmt::format("{} scatterer '{}'", lw, s.name);
+            bi.push_back(s.scattering.bandAverages(bands, sw + " scattering"));
+            d.phases.push_back(makePhaseFunction(s.phase, sw + " phase"));
+            for (size_t k = 0; k < nb; ++k) {
+                if (!(bi.back()[k] >= 0))
+                    throw InputError(fmt::format("{}: scattering coefficient {} in band {} (need b >= 0)", sw,
+                                                 bi.back()[k], k));
+                d.b[k] += bi.back()[k];
+            }
+        }
+        d.c.resize(nb);
+        d.weights.assign(nb, std::vector<double>(bi.size(), bi.empty() ? 0.0 : 1.0 / bi.size()));
+        for (size_t k = 0; k < nb; ++k) {
+            if (!(d.a[k] >= 0))
+                throw InputError(fmt::format("{}: absorption coefficient {} in band {} (need a >= 0)", lw, d.a[k], k));
+            d.c[k] = d.a[k] + d.b[k];
+            attenuating_ |= d.c[k] > 0;
+            scattering_ |= d.b[k] > 0;
+            if (d.b[k] > 0)
+                for (size_t i = 0; i < bi.size(); ++i) d.weights[k][i] = bi[i][k] / d.b[k];
+        }
+        layers_.push_back(std::move(d));
+    }
+}
+
+int Medium::layerAt(double z) const {
+    // Layers are ordered top to bottom; layer i holds zBottom_i <= z < zTop_i.
+    for (size_t i = 0; i + 1 < layers_.size(); ++i)
+        if (z >= layers_[i].zBottom) return static_cast<int>(i);
+    return static_cast<int>(layers_.size()) - 1;
+}
+
+double Medium::majorant(BandGroup g) const {
+    double m = 0;
+    for (const MediumLayer& l : layers_)
+        for (int i = 0; i < g.count; ++i) m = std::max(m, l.c[g.begin + i]);
+    return m;
+}
+
+template <class F> void Medium::walk(const Ray& r, double t, F&& f) const {
+    if (layers_.size() == 1) {
+        f(0, 0.0, t);
+        return;
+    }
+    int li = layerAt(r.o.z);
+    double t0 = 0;
+    while (t0 < t) {
+        // Distance to leave layer li along the ray (through its top when rising, bottom when sinking).
+        double tExit = ir::kInfinity;
+        if (r.d.z > 0 && std::isfinite(layers_[li].zTop)) tExit = (layers_[li].zTop - r.o.z) / r.d.z;
+        else if (r.d.z < 0 && std::isfinite(layers_[li].zBottom)) tExit = (layers_[li].zBottom - r.o.z) / r.d.z;
+        const double t1 = std::min(t, std::max(tExit, t0));
+        f(li, t0, t1);
+        if (t1 >= t) return;
+        t0 = t1;
+        li += r.d.z > 0 ? -1 : 1;
+        if (li < 0 || li >= static_cast<int>(layers_.size())) return;  // cannot happen: outer layers unbounded
+    }
+}
+
+Spec Medium::opticalDepth(const Ray& r, double t, BandGroup g) const {
+    Spec tau(g.count, 0.0);
+    walk(r, t, [&](int li, double t0, double t1) {
+        const MediumLayer& l = layers_[li];
+        for (int i = 0; i < g.count; ++i) {
+            const double c = l.c[g.begin + i];
+            if (c > 0) tau[i] += c * (t1 - t0);  // inf * c = inf for an infinite leg
+        }
+    });
+    return tau;
+}
+
+Spec Medium::transmittance(const Ray& r, double t, BandGroup g) const {
+    if (!attenuating_) return Spec(g.count, 1.0);
+    Spec tau = opticalDepth(r, t, g);
+    for (int i = 0; i < g.count; ++i) tau[i] = std::exp(-tau[i]);
+    return tau;
+}
+
+FreeFlight Medium::sampleFreeFlight(const Ray& r, double tMax, BandGroup g, double uBand, double u) const {
+    FreeFlight ff;
+    const int n = g.count;
+    const int hero = std::min(n - 1, static_cast<int>(uBand * n));
+    const double target = -std::log1p(-u);  // optical depth at which the hero band collides
+    Spec tau(n, 0.0);                       // optical depth so far, per band
+    double heroTau = 0;
+    bool done = false;
+    walk(r, tMax, [&](int li, double t0, double t1) {
+        if (done) return;
+        const MediumLayer& l = layers_[li];
+        const double ch = l.c[g.begin + hero];
+        const double dt = t1 - t0;
+        if (ch > 0 && heroTau + ch * dt > target) {
+            // Collision inside this layer.
+            const double t = t0 + (target - heroTau) / ch;
+            for (int i = 0; i < n; ++i) tau[i] += l.c[g.begin + i] * (t - t0);
+            ff.t = t;
+            ff.layer = li;
+            ff.scattered = true;
+            done = true;
+            return;
+        }
+        if (ch > 0) heroTau += ch * dt;
+        for (int i = 0; i < n; ++i)
+            if (l.c[g.begin + i] > 0) tau[i] += l.c[g.begin + i] * dt;
+    });
+    ff.weight = Spec(n, 0.0);
+    if (ff.scattered) {
+        const MediumLayer& l = layers_[ff.layer];
+        double pdf = 0;
+        Spec T(n);
+        for (int i = 0; i < n; ++i) {
+            T[i] = std::exp(-tau[i]);
+            pdf += l.c[g.begin + i] * T[i];
+        }
+        pdf /= n;
+        if (pdf > 0)
+            for (int i = 0; i < n; ++i) ff.weight[i] = T[i] * l.b[g.begin + i] / pdf;
+        return ff;
+    }
+    ff.t = tMax;
+    double pass = 0;
+    Spec T(n);
+    for (int i = 0; i < n; ++i) {
+        T[i] = std::exp(-tau[i]);
+        pass += T[i];
+    }
+    pass /= n;
+    if (pass > 0)
+        for (int i = 0; i < n; ++i) ff.weight[i] = T[i] / pass;
+    return ff;
+}
+
+Spec Medium::phase(int layer, BandGroup g, const Vec3& in, const Vec3& out) const {
+    const MediumLayer& l = layers_[layer];
+    Spec p(g.count, 0.0);
+    // 1 - cos from the chord; a tiny floor keeps an exactly forward connection finite (a measure-
+    // zero event with the sampled solar disc).
+    const double t = std::max(0.5 * lengthSquared(out - in), 1e-18);
+    if (l.phases.size() == 1) return Spec(g.count, l.phases[0].evalOneMinusCos(t));
+    for (size_t i = 0; i < l.phases.size(); ++i) {
+        const double pi = l.phases[i].evalOneMinusCos(t);
+        for (int k = 0; k < g.count; ++k) p[k] += l.weights[g.begin + k][i] * pi;
+    }
+    return p;
+}
+
+Vec3 Medium::samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& rng, Spec* weight) const {
+    const MediumLayer& l = layers_[layer];
+    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    if (l.phases.size() == 1) {
+        double pdf;
+        const Vec3 w = l.phases[0].sample(dir, u1, u2, u3, &pdf);
+        *weight = Spec(g.count, 1.0);
+        return w;
+    }
+    // Mixture: pick a scatterer by its band-averaged weight, then weight each band by p_b / pdf.
+    const size_t m = l.phases.size();
+    std::vector<double> wbar(m, 0.0);
+    for (size_t i = 0; i < m; ++i) {
+        for (int k = 0; k < g.count; ++k) wbar[i] += l.weights[g.begin + k][i];
+        wbar[i] /= g.count;
+    }
+    size_t pick = m - 1;
+    double acc = 0;
+    for (size_t i = 0; i < m; ++i) {
+        acc += wbar[i];
+        if (u0 < acc) {
+            pick = i;
+            break;
+        }
+    }
+    double unused;
+    const Vec3 w = l.phases[pick].sample(dir, u1, u2, u3, &unused);
+    const double t = std::max(0.5 * lengthSquared(w - dir), 1e-18);
+    double pdf = 0;
+    std::vector<double> pi(m);
+    for (size_t i = 0; i < m; ++i) {
+        pi[i] = l.phases[i].evalOneMinusCos(t);
+        pdf += wbar[i] * pi[i];
+    }
+    *weight = Spec(g.count, 0.0);
+    if (pdf > 0)
+        for (int k = 0; k < g.count; ++k) {
+            double pb = 0;
+            for (size_t i = 0; i < m; ++i) pb += l.weights[g.begin + k][i] * pi[i];
+            (*weight)[k] = pb / pdf;
+        }
+    return w;
+}
+
+double Medium::meanCosine(int layer) const {
+    const MediumLayer& l = layers_[layer];
+    double g = 0;
+    const size_t nb = l.weights.size();
+    for (size_t k = 0; k < nb; ++k)
+        for (size_t i = 0; i < l.phases.size(); ++i) g += l.weights[k][i] * l.phases[i].meanCosine();
+    return nb ? g / nb : 0.0;
+}
+
+}  // namespace littoral::render

@@ -1,0 +1,108 @@
+#pragma once
+// The Medium interface: what a ray travelling through water (or air) needs to know.
+//
+//  * majorant: the largest extinction coefficient c = a + b anywhere in the medium (per band group);
+//  * transmittance along a ray, exp(-Int c ds) (Eq. 2.4, through every layer it crosses);
+//  * free-flight (distance) sampling, with the spectral weights of the bands traced together;
+//  * the phase function at a point, with eval / sample / pdf.
+//
+// A medium is a stack of horizontal layers (depth-stratified water, Mobley et al. 1993 problem 3);
+// homogeneous water is one layer without bounds. Each layer has an absorption a(lambda) and a list
+// of scatterers (pure water, particles, ...) with their own b_i(lambda) and phase functions; the
+// layer's phase function is the mixture sum b_i p_i / sum b_i, whose weights may differ by band.
+//
+// Spectral sampling (one-sample MIS over the bands of a group, pbrt-v4's approach): a distance is
+// drawn from the band chosen uniformly at random, so its density is the band average
+// pdf(t) = (1/n) sum_b c_b(t) T_b(t); each band's weight T_b(t) b_b(t) / pdf(t) is exact. When all
+// bands share c the weights reduce to the single-scattering albedo b/c.
+#include <string>
+#include <vector>
+
+#include "core/ray.h"
+#include "core/rng.h"
+#include "core/scene_ir.h"
+#include "render/phase_functions.h"
+#include "render/spectral.h"
+
+namespace littoral::render {
+
+// Consecutive render bands traced together: at most kMaxGroupBands, and every medium has the same
+// refractive index in all of them (so they share ray geometry; dispersion splits groups).
+struct BandGroup {
+    int begin = 0, count = 0;
+};
+
+// One layer on the render bands.
+struct MediumLayer {
+    double zTop = ir::kInfinity, zBottom = -ir::kInfinity;
+    std::vector<double> a, b, c;                 // per render band, m^-1
+    std::vector<PhaseFunction> phases;           // one per scatterer
+    std::vector<std::vector<double>> weights;    // [band][scatterer] = b_i / b (b > 0), else 1/n
+};
+
+// Result of free-flight sampling along [0, tMax).
+struct FreeFlight {
+    bool scattered = false;  // a scattering event at distance t; otherwise the ray reached tMax
+    double t = 0;
+    int layer = -1;          // layer of the event
+    Spec weight;             // per band: T(t) b(t) / pdf (scattered) or T(tMax) / P(no event)
+};
+
+class Medium {
+public:
+    Medium() = default;
+    // Averages an IR medium over the render bands; InputError naming `who` for bands outside a
+    // spectrum's table, negative coefficients, n < 1 or bad phase-function parameters.
+    Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::string& who);
+    static Medium air(size_t bandCount);
+
+    const std::string& name() const { return name_; }
+    double n(int band) const { return n_[band]; }
+    const std::vector<double>& indices() const { return n_; }
+    bool attenuating() const { return attenuating_; }  // c > 0 somewhere in some band
+    bool scattering() const { return scattering_; }    // b > 0 somewhere in some band
+    const std::vector<MediumLayer>& layers() const { return layers_; }
+    bool homogeneous() const { return layers_.size() == 1; }
+
+    int layerAt(double z) const;
+    Spec a(int layer, BandGroup g) const { return slice(layers_[layer].a, g); }
+    Spec b(int layer, BandGroup g) const { return slice(layers_[layer].b, g); }
+    Spec c(int layer, BandGroup g) const { return slice(layers_[layer].c, g); }
+    double majorant(BandGroup g) const;
+
+    // exp(-Int_0^t c ds) per band along the unit-direction ray; t may be infinite (0 where c > 0).
+    Spec transmittance(const Ray& r, double t, BandGroup g) const;
+    // Optical depth Int_0^t c ds per band (infinite where c > 0 and t is).
+    Spec opticalDepth(const Ray& r, double t, BandGroup g) const;
+    // Free-flight sampling along [0, tMax) (tMax may be infinite); uBand picks the hero band.
+    FreeFlight sampleFreeFlight(const Ray& r, double tMax, BandGroup g, double uBand, double u) const;
+
+    // Phase function of `layer` for the bands of g, for light travelling along `in` scattered into
+    // `out` (unit vectors; sr^-1). Evaluated through 1 - cos = |out - in|^2 / 2, which stays
+    // accurate near the forward peak of Petzold and Fournier–Forand (infinite at exactly 0).
+    Spec phase(int layer, BandGroup g, const Vec3& in, const Vec3& out) const;
+    // Samples a new propagation direction after scattering of a ray travelling along `dir`; weight
+    // receives p_b / pdf per band (1 for a single scatterer).
+    Vec3 samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& rng, Spec* weight) const;
+    // Band-averaged mean cosine of the layer's phase function (for documentation and heuristics).
+    double meanCosine(int layer) const;
+
+private:
+    Spec slice(const std::vector<double>& v, BandGroup g) const {
+        Spec s(g.count);
+        for (int i = 0; i < g.count; ++i) s[i] = v[g.begin + i];
+        return s;
+    }
+    // Calls f(layer, t0, t1) for each layer the ray crosses within [0, t), in order.
+    template <class F> void walk(const Ray& r, double t, F&& f) const;
+
+    std::string name_;
+    std::vector<double> n_;
+    std::vector<MediumLayer> layers_;
+    bool attenuating_ = false, scattering_ = false;
+};
+
+// Builds the render phase function for an IR description (InputError naming `who` on bad values).
+PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who);
+
+}  // namespace littoral::render
