@@ -70,7 +70,6 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
     RenderConfig c;
     c.estimator = s.estimator;
     SettingsReader r(s);
-    c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 16, 0, 100000);
     c.probeSamples = r.get(s.probeSamples, "probe_samples", 4096, 2, 1 << 30);
     c.probeBatches = r.get(s.probeBatches, "probe_batches", 16, 2, 4096);
     if (c.probeBatches > c.probeSamples)
@@ -81,6 +80,7 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
     switch (s.estimator) {
         case ir::Estimator::Dirsig: {
             c.maxBounces = r.get(s.maxBounces, "max_bounces", 8, 0, 100000);
+            c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 16, 0, 100000);
             c.hemisphereSamples = r.get(s.hemisphereSamples, "hemisphere_samples", 64, 1, 1 << 20);
             r.finish("dirsig", "photon maps (photons, search_radius_m, march_step_m) are not built by this version");
             std::vector<std::string> standIns;
@@ -116,7 +116,10 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
             break;
         }
         case ir::Estimator::Path: {
+            // Limits far above what Russian roulette lets a path reach: they only stop a path that
+            // would otherwise never end (light trapped without loss), so they do not bias results.
             c.maxBounces = r.get(s.maxBounces, "max_bounces", 1000, 0, 100000);
+            c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 1000, 0, 100000);
             c.marchStep = r.get(s.marchStep, "march_step_m", 0.1, 1e-4, 1e4, "m");
             r.finish("path", "");
             for (size_t i = 0; i < ir.materials.size(); ++i) {
@@ -187,42 +190,30 @@ Spec Estimator::environment(const Vec3& d, bool withSun) const {
     return L;
 }
 
-Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium,
-                                      RandomStream& rng) const {
+Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const {
     SunBeam beam;
     beam.E = Spec(group_.count);
     const SunSource& sun = scene_.sun();
-    // Draw the two numbers unconditionally so the random stream layout does not depend on
-    // geometry (keeps neighbouring pixels' streams aligned).
-    const double u1 = rng.uniform(), u2 = rng.uniform();
     if (!sun.enabled) return beam;
-    const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
     const Medium& md = scene_.media()[medium];
     const double nm = md.n(group_.begin);
-    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
     if (nm == 1.0 && !md.attenuating()) {
         // In air: a straight shadow ray.
-        if (checkFacing && dot(ws, facing) <= 0) return beam;
-        if (scene_.geometry().occluded(spawnRay(p, ng, ws))) return beam;
+        if (!sun.inDisc(dir) || scene_.geometry().occluded(spawnRay(p, ng, dir))) return beam;
         beam.E = bandValues(sun.irradiance);
-        beam.toSun = ws;
+        beam.toSun = dir;
+        beam.solidAngle = sun.solidAngle;
         beam.valid = true;
         return beam;
     }
-    // In a denser medium: the sun refracted through the interface above. The direction in the
-    // medium that a horizontal interface refracts toward ws (Snell, Eq. 4.1, air index 1):
-    Vec3 wt;
-    if (!refract(ws, Vec3{0, 0, 1}, 1.0 / nm, &wt)) return beam;
-    const Vec3 up = normalize(-wt);
-    if (checkFacing && dot(up, facing) <= 0) return beam;
+    // In a denser medium: follow dir up, through periodic walls, to the interface above.
     SurfaceHit h;
-    Ray toSurface = spawnRay(p, ng, up);
-    // Follow the leg up, through periodic walls, to the interface above.
+    Ray toSurface = spawnRay(p, ng, dir);
     std::vector<std::pair<Ray, double>> legs;
     for (int w = 0;; ++w) {
         if (!scene_.geometry().intersect(toSurface, &h)) return beam;
         if (!scene_.material(h).isPeriodicWall()) break;
-        const auto next = scene_.wrapRay(h, up);
+        const auto next = scene_.wrapRay(h, dir);
         if (!next || w >= Scene::kMaxWraps) return beam;
         legs.emplace_back(toSurface, h.t);
         toSurface = *next;
@@ -233,27 +224,64 @@ Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const 
     if (far.attenuating()) return beam;
     const double nFar = far.n(group_.begin);
     const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
-    const double cosW = std::abs(dot(up, nf));
+    const double cosW = std::abs(dot(dir, nf));
     Vec3 out;
-    if (!refract(-up, nf, nm / nFar, &out)) return beam;  // TIR at this facet
+    if (!refract(-dir, nf, nm / nFar, &out)) return beam;  // TIR at this facet
     out = normalize(out);
-    if (!sun.inDisc(out)) return beam;                     // a tilted facet sends it elsewhere
+    if (!sun.inDisc(out)) return beam;                      // the facet sends it elsewhere
     if (scene_.geometry().occluded(spawnRay(h.p, h.ng, out))) return beam;
     const double cosA = std::abs(dot(out, nf));
     const double T = 1.0 - fresnelDielectric(cosW, nm, nFar);
     // Radiance in the medium T (nm/nFar)^2 L_sun over a solid angle compressed by
-    // (nFar/nm)^2 cos(theta_far)/cos(theta_medium): beam irradiance E_sun T cosA / cosW.
+    // (nFar/nm)^2 cos(theta_far)/cos(theta_medium) (etendue n^2 cos dOmega is conserved): beam
+    // irradiance E_sun T cosA / cosW.
     Spec atten = md.transmittance(toSurface, h.t, group_);
     for (const auto& [leg, t] : legs) atten *= md.transmittance(leg, t, group_);
     const double geom = T * cosA / cosW;
     for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i];
-    beam.toSun = up;
+    beam.toSun = dir;
+    beam.solidAngle = sun.solidAngle * sqr(nFar / nm) * cosA / cosW;
     beam.valid = true;
     return beam;
 }
 
+Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium,
+                                      RandomStream& rng) const {
+    SunBeam none;
+    none.E = Spec(group_.count);
+    const SunSource& sun = scene_.sun();
+    // Draw the two numbers unconditionally so the random stream layout does not depend on
+    // geometry (keeps neighbouring pixels' streams aligned).
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    if (!sun.enabled) return none;
+    const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
+    const double nm = scene_.media()[medium].n(group_.begin);
+    Vec3 dir = ws;
+    if (nm != 1.0 || scene_.media()[medium].attenuating()) {
+        // The direction in the medium that a horizontal interface refracts toward ws (Snell,
+        // Eq. 4.1, air index 1); the facet actually hit decides (sunAlong).
+        Vec3 wt;
+        if (!refract(ws, Vec3{0, 0, 1}, 1.0 / nm, &wt)) return none;
+        dir = normalize(-wt);
+    }
+    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
+    if (checkFacing && dot(dir, facing) <= 0) return none;
+    return sunAlong(p, ng, dir, medium);
+}
+
+std::optional<Vec3> Estimator::refractedSunDirection(int medium) const {
+    const SunSource& sun = scene_.sun();
+    if (!sun.enabled) return std::nullopt;
+    const double nm = scene_.media()[medium].n(group_.begin);
+    if (nm == 1.0) return sun.direction;
+    Vec3 wt;
+    if (!refract(sun.direction, Vec3{0, 0, 1}, 1.0 / nm, &wt)) return std::nullopt;
+    return normalize(-wt);
+}
+
 Spec Estimator::directSun(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const {
-    const SunBeam b = sunBeam(p, n, n, medium, rng);
+    // A probe is a point inside a medium, not on a surface: its rays start exactly at p.
+    const SunBeam b = sunBeam(p, Normal3{0, 0, 0}, n, medium, rng);
     if (!b.valid) return Spec(group_.count);
     const double c = dot(b.toSun, n);
     if (c <= 0) return Spec(group_.count);

@@ -14,6 +14,7 @@
 // default and allowed range) and refuses, with an InputError naming it, any setting that is set
 // but that the estimator does not read, and any material solver the estimator does not honour.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,10 +63,15 @@ public:
     // single refraction (the part directSun() below estimates): probes add that part separately.
     virtual Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const = 0;
 
-    // The direct solar beam at p in `medium` on a plane with normal n (E_sun cos, or E_sun for
-    // scalar irradiance), by next-event estimation: a shadow ray in air, the refracted sun through
-    // the interface above in water (see SunBeam).
+    // The direct solar beam at the point p (inside `medium`, not on a surface) on a plane with
+    // normal n (E_sun cos, or E_sun for scalar irradiance), by next-event estimation: a shadow ray
+    // in air, the refracted sun through the interface above in water (see SunBeam).
     Spec directSun(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const;
+
+    // Direction toward the centre of the solar disc as seen from inside `medium` through a
+    // horizontal interface (Snell, Eq. 4.1); nullopt without a sun. A guide for importance
+    // sampling (e.g. probe directions near the forward-scattering peak), not a visibility claim.
+    std::optional<Vec3> refractedSunDirection(int medium) const;
 
     const Scene& scene() const { return scene_; }
     const RenderConfig& config() const { return config_; }
@@ -76,10 +82,16 @@ protected:
     // The solar beam at a point: irradiance normal to the beam (per band, attenuated to the point)
     // and the direction from the point toward the sun (in the point's medium).
     struct SunBeam {
-        Spec E;
-        Vec3 toSun;
+        Spec E;                 // irradiance on a plane normal to the beam at the point, per band
+        Vec3 toSun;             // unit, from the point toward the sun, in the point's medium
+        double solidAngle = 0;  // solid angle of the (refracted) solar disc seen from the point: the
+                                // beam's radiance is E / solidAngle
         bool valid = false;
     };
+    // The sun seen from p along the in-medium direction `dir`: traced (through periodic walls) to
+    // the interface above, refracted through the facet hit, valid if it leaves inside the solar
+    // disc and reaches the sky unoccluded. In air: a shadow ray along dir, valid inside the disc.
+    SunBeam sunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const;
     // Next-event estimate of the sun at p (offset off the surface with normal ng, or ng = 0 for a
     // point inside a medium), drawing two numbers from rng whatever the geometry. If `facing` is
     // not zero, directions with dot(toSun, facing) <= 0 are rejected before any ray is cast. In air: a shadow

@@ -6,8 +6,20 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/units.h"
 
 namespace littoral::render {
+
+namespace {
+// Band-averaged scatterer weights of a layer for the bands of g.
+void averageWeights(const MediumLayer& l, BandGroup g, double* w) {
+    for (size_t i = 0; i < l.phases.size(); ++i) {
+        w[i] = 0;
+        for (int k = 0; k < g.count; ++k) w[i] += l.weights[g.begin + k][i];
+        w[i] /= g.count;
+    }
+}
+}  // namespace
 
 PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who) {
     using T = ir::PhaseFunction::Type;
@@ -59,10 +71,13 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
         d.a = L.absorption.bandAverages(bands, lw + " absorption");
         d.b.assign(nb, 0.0);
         std::vector<std::vector<double>> bi;
+        if (L.scatterers.size() > static_cast<size_t>(kMaxScatterers))
+            throw InputError(fmt::format("{}: {} scatterers; at most {} per layer", lw, L.scatterers.size(), kMaxScatterers));
         for (const ir::Scatterer& s : L.scatterers) {
             const std::string sw = fmt::format("{} scatterer '{}'", lw, s.name);
             bi.push_back(s.scattering.bandAverages(bands, sw + " scattering"));
             d.phases.push_back(makePhaseFunction(s.phase, sw + " phase"));
+            forwardPeaked_ |= d.phases.back().evalOneMinusCos(1e-6) > 10.0 / (4.0 * kPi);
             for (size_t k = 0; k < nb; ++k) {
                 if (!(bi.back()[k] >= 0))
                     throw InputError(fmt::format("{}: scattering coefficient {} in band {} (need b >= 0)", sw,
@@ -217,26 +232,12 @@ Vec3 Medium::samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& 
         return w;
     }
     // Mixture: pick a scatterer by its band-averaged weight, then weight each band by p_b / pdf.
-    const size_t m = l.phases.size();
-    std::vector<double> wbar(m, 0.0);
-    for (size_t i = 0; i < m; ++i) {
-        for (int k = 0; k < g.count; ++k) wbar[i] += l.weights[g.begin + k][i];
-        wbar[i] /= g.count;
-    }
-    size_t pick = m - 1;
-    double acc = 0;
-    for (size_t i = 0; i < m; ++i) {
-        acc += wbar[i];
-        if (u0 < acc) {
-            pick = i;
-            break;
-        }
-    }
-    double unused;
-    const Vec3 w = l.phases[pick].sample(dir, u1, u2, u3, &unused);
+    const Vec3 w = sampleAround(layer, g, dir, u0, u1, u2, u3);
     const double t = std::max(0.5 * lengthSquared(w - dir), 1e-18);
+    const size_t m = l.phases.size();
+    double wbar[kMaxScatterers], pi[kMaxScatterers];
+    averageWeights(l, g, wbar);
     double pdf = 0;
-    std::vector<double> pi(m);
     for (size_t i = 0; i < m; ++i) {
         pi[i] = l.phases[i].evalOneMinusCos(t);
         pdf += wbar[i] * pi[i];
@@ -249,6 +250,35 @@ Vec3 Medium::samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& 
             (*weight)[k] = pb / pdf;
         }
     return w;
+}
+
+Vec3 Medium::sampleAround(int layer, BandGroup g, const Vec3& dir, double u0, double u1, double u2, double u3) const {
+    const MediumLayer& l = layers_[layer];
+    double pdf;
+    if (l.phases.size() == 1) return l.phases[0].sample(dir, u1, u2, u3, &pdf);
+    double w[kMaxScatterers];
+    averageWeights(l, g, w);
+    size_t pick = l.phases.size() - 1;
+    double acc = 0;
+    for (size_t i = 0; i < l.phases.size(); ++i) {
+        acc += w[i];
+        if (u0 < acc) {
+            pick = i;
+            break;
+        }
+    }
+    return l.phases[pick].sample(dir, u1, u2, u3, &pdf);
+}
+
+double Medium::pdfAround(int layer, BandGroup g, const Vec3& dir, const Vec3& wOut) const {
+    const MediumLayer& l = layers_[layer];
+    const double t = std::max(0.5 * lengthSquared(wOut - dir), 1e-18);
+    if (l.phases.size() == 1) return l.phases[0].evalOneMinusCos(t);
+    double w[kMaxScatterers];
+    averageWeights(l, g, w);
+    double p = 0;
+    for (size_t i = 0; i < l.phases.size(); ++i) p += w[i] * l.phases[i].evalOneMinusCos(t);
+    return p;
 }
 
 double Medium::meanCosine(int layer) const {

@@ -32,6 +32,8 @@ struct BandGroup {
     int begin = 0, count = 0;
 };
 
+inline constexpr int kMaxScatterers = 16;  // per layer
+
 // One layer on the render bands.
 struct MediumLayer {
     double zTop = ir::kInfinity, zBottom = -ir::kInfinity;
@@ -84,6 +86,14 @@ public:
     // Samples a new propagation direction after scattering of a ray travelling along `dir`; weight
     // receives p_b / pdf per band (1 for a single scatterer).
     Vec3 samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& rng, Spec* weight) const;
+    // Sampling directions around `dir` from the layer's phase function with the band-averaged
+    // mixture weights (the density samplePhase draws from), and that density (sr^-1). Used as an
+    // importance distribution, e.g. for probe directions near the sun's forward-scattering peak.
+    Vec3 sampleAround(int layer, BandGroup g, const Vec3& dir, double u0, double u1, double u2, double u3) const;
+    double pdfAround(int layer, BandGroup g, const Vec3& dir, const Vec3& w) const;
+    // Whether some layer's phase function has a strong forward peak: p at 0.08 deg (1 - cos = 1e-6)
+    // above 10 times the isotropic 1/(4 pi). Decides where sampling is guided toward the sun.
+    bool forwardPeaked() const { return forwardPeaked_; }
     // Band-averaged mean cosine of the layer's phase function (for documentation and heuristics).
     double meanCosine(int layer) const;
 
@@ -99,7 +109,7 @@ private:
     std::string name_;
     std::vector<double> n_;
     std::vector<MediumLayer> layers_;
-    bool attenuating_ = false, scattering_ = false;
+    bool attenuating_ = false, scattering_ = false, forwardPeaked_ = false;
 };
 
 // Builds the render phase function for an IR description (InputError naming `who` on bad values).

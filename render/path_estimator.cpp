@@ -23,9 +23,11 @@
 // sun estimate covers (SunChain), so nothing is counted twice. Diffuse surfaces get the sun by
 // next-event estimation and continue by BxDF sampling; delta interfaces split into both Fresnel
 // lobes for the first few events and then choose one. Russian roulette on the throughput after
-// three scattering vertices keeps the estimate unbiased.
+// three scattering vertices, as a weight window (see roulette()), keeps the estimate unbiased.
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "core/frame.h"
 #include "core/stats.h"
@@ -34,20 +36,48 @@
 #include "render/sampling.h"
 
 namespace littoral::render {
-
 namespace {
 
 constexpr double kTauCut = 40.0;  // optical depth beyond which an infinite segment is cut
 constexpr int kMaxSunPoints = 16;
+constexpr double kSunGuide = 0.25;  // fraction of scattering directions drawn around the sun
+constexpr int kSunScatterDims = 7;   // random numbers sunScattered() draws
+constexpr double kNearSunDeg = 10.0;
 // Segments (counted from the sensor or probe) whose single scattering is estimated by marching;
 // two cover the light scattered twice on its way down and up (upwelling radiance at depth is
 // mostly backscattered diffuse light that was scattered near the surface).
 constexpr int kMarchedSegments = 2;
 
+// Russian roulette as a weight window: after kRouletteDepth vertices, a path whose throughput has
+// fallen below kRouletteWeight survives with probability max(beta) / kRouletteWeight and then
+// carries weight kRouletteWeight (unbiased: E[beta'] = beta). Survivors keep a small weight, so in
+// low-albedo water (where every path's throughput is small) the few survivors do not carry the
+// whole estimate, as they do when roulette restores the weight to 1. Returns false if the path ends.
+constexpr int kRouletteDepth = 3;
+constexpr double kRouletteWeight = 0.05;
+// No roulette for a path heading within kNearSunDeg of the refracted sun (`exempt`): such paths
+// got there by the sun guide with a small weight that their next sun estimates, in the forward
+// peak, are meant to spend; restoring it by roulette makes 1000x outliers (measured on Lu under a
+// shading instrument). Skipping roulette is always unbiased.
+bool roulette(Spec& beta, int vertices, RandomStream& rng, bool exempt) {
+    const double u = rng.uniform();  // drawn always: the stream layout does not depend on depth
+    if (vertices <= kRouletteDepth || exempt) return true;
+    const double m = beta.maxValue();
+    if (m >= kRouletteWeight) return true;
+    const double q = m / kRouletteWeight;
+    if (u >= q) return false;
+    beta *= 1.0 / q;
+    return true;
+}
+
 class PathEstimator final : public Estimator {
 public:
     PathEstimator(const Scene& scene, const RenderConfig& config, BandGroup group)
-        : Estimator(scene, config, group) {}
+        : Estimator(scene, config, group) {
+        for (size_t m = 0; m < scene.media().size(); ++m)
+            sunGuide_.push_back(scene.media()[m].scattering() ? refractedSunDirection(static_cast<int>(m))
+                                                               : std::nullopt);
+    }
 
     Spec Li(const Ray& ray, int medium, RandomStream& rng) const override {
         Walk w;
@@ -68,9 +98,80 @@ private:
         int vertices = 0, specular = 0, wraps = 0, splits = 0;
     };
     Spec trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const;
+    bool nearSun(int medium, const Vec3& d) const {
+        const auto& g = sunGuide_[medium];
+        return g && dot(*g, d) > std::cos(kNearSunDeg * kPi / 180.0);
+    }
+
+    std::vector<std::optional<Vec3>> sunGuide_;  // per medium: toward the refracted sun (scattering media)
+    // The direction a path leaves a scattering event in (sampled, with its per-band weight p / pdf).
+    // With the sun up, a fraction kSunGuide of the directions is drawn from the phase function
+    // around the refracted sun direction instead of around the incoming ray, and the two are
+    // combined as a mixture density: the sun estimate at the next event is proportional to the
+    // phase function between that direction and the sun, which for Petzold's forward power law
+    // (p ~ psi^-1.35) has infinite variance unless directions near the sun are sampled in
+    // proportion to it. With the mixture the product of the two phase values over the density is
+    // bounded by 1 / kSunGuide times the other. Even for flat phase functions the guide pays: it
+    // sends paths from depth up toward the sunlit water, where their sun estimates are large
+    // (measured on Mobley et al.'s problem 1 at albedo 0.9: 3x less variance of Ed at tau = 5).
+    Vec3 sampleContinuation(const Medium& md, int medium, int layer, const Vec3& dir, RandomStream& rng, Spec* weight) const;
+    // Sunlight scattered at x (in `layer` of `medium`) toward -dir, per unit scattering coefficient:
+    // Int_disc L_sun(w) p(w -> -dir) dw (sr^-1 x radiance). The disc is tiny (0.53 deg, and
+    // refracted) and the phase function may have a forward power law (Petzold: p ~ psi^-1.35), so
+    // sampling a point of the disc and evaluating p there has infinite variance when dir nearly
+    // meets the sun. In forward-peaked media the estimate is one-sample MIS (balance heuristic) of
+    // two strategies: a uniform point of the disc (pdf 1/Omega) and a direction drawn from the
+    // phase function around dir, kept if it reaches the disc (pdf p); each contribution is then
+    // at most twice the disc's radiance. Draws kSunScatterDims numbers.
+    Spec sunScattered(const Point3& x, int layer, const Vec3& dir, int medium, RandomStream& rng) const;
     // Single-scattered sunlight along ray.o + t ray.d, t in [0, tMax), in `medium` (part 1 above).
     Spec sunInScatter(const Ray& ray, double tMax, int medium, RandomStream& rng) const;
 };
+
+Vec3 PathEstimator::sampleContinuation(const Medium& md, int medium, int layer, const Vec3& dir, RandomStream& rng,
+                                       Spec* weight) const {
+    const auto& guide = sunGuide_[medium];
+    const double ut = rng.uniform(), u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    if (!guide) {
+        const Vec3 w = md.sampleAround(layer, group_, dir, u0, u1, u2, u3);
+        const double pdf = md.pdfAround(layer, group_, dir, w);
+        *weight = pdf > 0 ? md.phase(layer, group_, -dir, -w) * (1.0 / pdf) : Spec(group_.count);
+        return w;
+    }
+    const Vec3 w = ut < kSunGuide ? md.sampleAround(layer, group_, *guide, u0, u1, u2, u3)
+                                  : md.sampleAround(layer, group_, dir, u0, u1, u2, u3);
+    const double pdf = kSunGuide * md.pdfAround(layer, group_, *guide, w) +
+                       (1.0 - kSunGuide) * md.pdfAround(layer, group_, dir, w);
+    *weight = pdf > 0 ? md.phase(layer, group_, -dir, -w) * (1.0 / pdf) : Spec(group_.count);
+    return w;
+}
+
+Spec PathEstimator::sunScattered(const Point3& x, int layer, const Vec3& dir, int medium, RandomStream& rng) const {
+    const Medium& md = scene_.media()[medium];
+    const double us = rng.uniform(), u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(),
+                 u3 = rng.uniform();
+    const Normal3 none{0, 0, 0};
+    if (!md.forwardPeaked()) {
+        const SunBeam sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
+        // Light travelling along -toSun scatters into -dir (toward the ray's origin).
+        return sun.valid ? md.phase(layer, group_, -sun.toSun, -dir) * sun.E : Spec(group_.count);
+    }
+    SunBeam sun;
+    if (us < 0.5) {
+        sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
+    } else {
+        rng.uniform(), rng.uniform();  // the disc strategy's two numbers
+        // A direction toward the light w with density p(angle(w, dir)): light arriving along -w
+        // scatters into -dir at that same angle.
+        const Vec3 w = md.sampleAround(layer, group_, dir, u0, u1, u2, u3);
+        sun = sunAlong(x, none, w, medium);
+    }
+    if (!sun.valid) return Spec(group_.count);
+    const double pMix = md.pdfAround(layer, group_, dir, sun.toSun);
+    const double mix = 0.5 / sun.solidAngle + 0.5 * pMix;
+    // f / mix with f = L p, L = E / Omega.
+    return md.phase(layer, group_, -sun.toSun, -dir) * sun.E * (1.0 / (sun.solidAngle * mix));
+}
 
 Spec PathEstimator::sunInScatter(const Ray& ray, double tMax, int medium, RandomStream& rng) const {
     const int nb = group_.count;
@@ -109,12 +210,10 @@ Spec PathEstimator::sunInScatter(const Ray& ray, double tMax, int medium, Random
             const double t = strategy == 0 ? sampleA(u) : u * tEnd;
             const double denom = K * (pdfA(t) + pdfB);
             const Point3 x = ray.at(t);
-            const SunBeam sun = sunBeam(x, Normal3{0, 0, 0}, Vec3{0, 0, 0}, medium, rng);
-            if (!sun.valid || !(denom > 0)) continue;
             const int layer = md.layerAt(x.z);
-            // Light travelling along -toSun scatters into -ray.d (toward the ray's origin).
-            const Spec p = md.phase(layer, group_, -sun.toSun, -ray.d);
-            L += md.transmittance(ray, t, group_) * md.b(layer, group_) * p * sun.E * (1.0 / denom);
+            const Spec Ls = sunScattered(x, layer, ray.d, medium, rng);
+            if (Ls.isBlack() || !(denom > 0)) continue;
+            L += md.transmittance(ray, t, group_) * md.b(layer, group_) * Ls * (1.0 / denom);
         }
     }
     return L;
@@ -144,23 +243,21 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
                 const Point3 x = ray.at(ff.t);
                 if (!marched) {
                     // Collision estimator of the sun scattered here toward the previous vertex.
-                    const SunBeam sun = sunBeam(x, Normal3{0, 0, 0}, Vec3{0, 0, 0}, medium, rng);
-                    if (sun.valid) L += beta * md.phase(ff.layer, group_, -sun.toSun, -ray.d) * sun.E;
+                    L += beta * sunScattered(x, ff.layer, ray.d, medium, rng);
                 } else {
-                    rng.uniform(), rng.uniform();
+                    for (int k = 0; k < kSunScatterDims; ++k) rng.uniform();
                 }
+                // Roulette before the new direction is sampled: a direction guided toward the sun
+                // (sampleContinuation) gets a small weight on purpose, to be spent on the sun
+                // estimate at its next vertex; rouletting it first would restore the weight of the
+                // rare survivor and undo the guide (measured: 1000x outliers in Lu under a shading
+                // instrument).
+                if (!roulette(beta, vertices, rng, nearSun(medium, ray.d))) break;
                 Spec w;
-                const Vec3 wi = md.samplePhase(ff.layer, group_, ray.d, rng, &w);
+                const Vec3 wi = sampleContinuation(md, medium, ff.layer, ray.d, rng, &w);
                 beta *= w;
                 ray = Ray{x, wi};
                 chain = SunChain::afterVertex();
-                if (vertices > 3) {  // Russian roulette
-                    const double q = std::min(1.0, beta.maxValue());
-                    if (rng.uniform() >= q) break;
-                    beta *= 1.0 / q;
-                } else {
-                    rng.uniform();  // keep the stream layout independent of the depth
-                }
                 continue;
             }
             if (beta.isBlack()) break;
@@ -230,20 +327,33 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
         const Normal3 n = h.front ? h.ng : -h.ng;
         const SunBeam sun = sunBeam(h.p, h.ng, n, medium, rng);
         if (sun.valid) L += beta * rho * sun.E * (std::max(0.0, dot(sun.toSun, n)) * kInvPi);
+        if (!roulette(beta, vertices, rng, false)) break;  // before the (possibly guided) direction, as above
         const Frame frame = Frame::fromNormal(n);
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        const auto bs = bxdf.sample(frame.toLocal(-ray.d), 0.5, Vec2{u1, u2});
-        if (!bs || bs->pdf <= 0) break;
-        beta *= rho * (bs->f * std::abs(bs->wi.z) / bs->pdf);
-        ray = spawnRay(h.p, h.ng, frame.toWorld(bs->wi));
-        chain = SunChain::afterVertex();
-        if (vertices > 3) {
-            const double q = std::min(1.0, beta.maxValue());
-            if (rng.uniform() >= q) break;
-            beta *= 1.0 / q;
+        const Vec3 woLocal = frame.toLocal(-ray.d);
+        const double ut = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u0 = rng.uniform(),
+                     u3 = rng.uniform();
+        // In scattering water, mix BxDF sampling with the phase function around the refracted sun
+        // (see sampleContinuation: the sun estimate on the next segment is peaked there).
+        const Medium& md2 = scene_.media()[medium];
+        const auto& guide = sunGuide_[medium];
+        Vec3 wiLocal;
+        if (guide && ut < kSunGuide) {
+            wiLocal = frame.toLocal(md2.sampleAround(md2.layerAt(h.p.z), group_, *guide, u0, u1, u2, u3));
         } else {
-            rng.uniform();
+            const auto bs = bxdf.sample(woLocal, 0.5, Vec2{u1, u2});
+            if (!bs || bs->pdf <= 0) break;
+            wiLocal = bs->wi;
         }
+        if (wiLocal.z * woLocal.z <= 0) break;  // below the surface: no reflection there
+        double pdf = bxdf.pdf(woLocal, wiLocal);
+        if (guide)
+            pdf = (1.0 - kSunGuide) * pdf +
+                  kSunGuide * md2.pdfAround(md2.layerAt(h.p.z), group_, *guide, frame.toWorld(wiLocal));
+        if (!(pdf > 0)) break;
+        beta *= rho * (bxdf.f(woLocal, wiLocal) * std::abs(wiLocal.z) / pdf);
+        const Vec3 wiWorld = normalize(frame.toWorld(wiLocal));
+        ray = spawnRay(h.p, h.ng, wiWorld);
+        chain = SunChain::afterVertex();
     }
     return L;
 }

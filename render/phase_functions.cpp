@@ -578,7 +578,7 @@ std::shared_ptr<const TabulatedPhase> petzoldAverageParticleTable() {
             {135, 2.37667e-3},    {140, 2.32898e-3},    {145, 2.31308e-3},    {150, 2.36475e-3},
             {155, 2.50584e-3},    {160, 2.66183e-3},    {165, 2.83472e-3},    {170, 3.03046e-3},
             {175, 3.09206e-3},    {180, 3.15366e-3}},
-        1.346, TabulatedPhase::Interpolation::LinearInPsi, 32, "Petzold average particle (Mobley et al. 1993, Table 2)");
+        1.346, TabulatedPhase::Interpolation::LogLog, 32, "Petzold average particle (Mobley et al. 1993, Table 2)");
     return table;
 }
 

@@ -74,9 +74,19 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
         const bool up = q == Quantity::Ed || q == Quantity::Eod;
         const Normal3 n{0, 0, up ? 1.0 : -1.0};
         const Frame frame = Frame::fromNormal(n);
+        const Medium& md = scene.media()[medium];
+        const int layer = md.layerAt(probe.position.z);
         for (size_t gi = 0; gi < estimators.size(); ++gi) {
             const Estimator& est = estimators.forGroup(gi);
             const BandGroup g = estimators.groups()[gi];
+            // In water with a forward-peaked phase function the sunlit forward-scattering peak around
+            // the refracted sun is far brighter than the rest of what a probe sees from below
+            // (Petzold: 10^3 times at 0.1 deg); the downwelling quantities then draw half their
+            // directions from the phase function around the sun and combine the two strategies by
+            // the balance heuristic (one-sample MIS). (For flat phase functions this costs more
+            // variance than it saves, measured on Mobley et al.'s problem 1.)
+            const auto sunDir =
+                up && md.scattering() && md.forwardPeaked() ? est.refractedSunDirection(medium) : std::nullopt;
             std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
             tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
             arena.execute([&] {
@@ -92,6 +102,34 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                             const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
                             Vec3 w;
                             double weight;
+                            if (sunDir) {
+                                // Technique 0: the quantity's own (cosine or uniform) hemisphere;
+                                // technique 1: the phase function around the refracted sun.
+                                const bool plane = q == Quantity::Ed;
+                                const double ut = rng.uniform(), u0 = rng.uniform(), u3 = rng.uniform();
+                                Vec3 wl;
+                                if (ut < 0.5) {
+                                    wl = plane ? sampleCosineHemisphere(u.x, u.y) : sampleUniformHemisphere(u.x, u.y);
+                                    w = frame.toWorld(wl);
+                                } else {
+                                    w = md.sampleAround(layer, g, *sunDir, u0, u.x, u.y, u3);
+                                    wl = frame.toLocal(w);
+                                }
+                                const double cosT = wl.z;
+                                Spec L(g.count);
+                                if (cosT > 0) {
+                                    const double p0 = plane ? cosT * kInvPi : 1.0 / (2.0 * kPi);
+                                    const double p1 = md.pdfAround(layer, g, *sunDir, w);
+                                    const double f = plane ? cosT : 1.0;  // Ed weights by cos, Eod not
+                                    Ray ray;
+                                    ray.o = probe.position;
+                                    ray.d = normalize(w);
+                                    L = est.LiIndirect(ray, medium, rng) * (f / (0.5 * p0 + 0.5 * p1));
+                                }
+                                L += est.directSun(probe.position, n, medium, q == Quantity::Eod, rng);
+                                sum += L;
+                                continue;
+                            }
                             switch (q) {
                                 case Quantity::Ed:
                                 case Quantity::Eu:

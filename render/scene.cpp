@@ -161,8 +161,15 @@ std::optional<Ray> Scene::wrapRay(const SurfaceHit& h, const Vec3& d) const {
     if (std::abs(p.y - D.y0) < tol && d.y < 0) p.y += Ly, moved = true;
     else if (std::abs(p.y - D.y1) < tol && d.y > 0) p.y -= Ly, moved = true;
     if (!moved) return std::nullopt;  // not on a domain edge, or leaving inward: no wrap
+    // Start just inside the opposite wall, pushed off it along its inward normal (not along d,
+    // which may graze the wall), so the ray cannot meet the wall it enters through.
+    const double eps = offsetDistance(p);
+    if (std::abs(p.x - D.x0) < tol) p.x += eps;
+    else if (std::abs(p.x - D.x1) < tol) p.x -= eps;
+    if (std::abs(p.y - D.y0) < tol) p.y += eps;
+    else if (std::abs(p.y - D.y1) < tol) p.y -= eps;
     Ray r;
-    r.o = p + d * offsetDistance(p);
+    r.o = p;
     r.d = d;
     return r;
 }

@@ -204,6 +204,42 @@ TEST(InterfaceRadiometry, DropletOverLambertianGroundTestD) {
     }
 }
 
+// Test D under the path estimator (maxBounces 1 as above, no per-material solver): each path
+// takes one cosine-sampled ray at the ground, so the centre is estimated with noise. A 3 x 3
+// image of 2e-4 rad pixels: every ray enters within 3e-4 rad of normal incidence and lands within
+// 5 mm of the axis, where (by symmetry, to second order) T_f and the mean radial path change by
+// < 1e-6 relative, so the 9 pixels are independent estimates of the same value: their mean must
+// match the prediction within 4 standard errors of the mean (from their spread) plus the 2e-4
+// faceting budget of the test above, and that standard error must be below 1 %. (From the
+// centre every sampled ray leaves along a radius and meets the dome at normal incidence, so
+// every path carries the same value: the spread is nearly zero.)
+TEST(InterfaceRadiometry, DropletOverLambertianGroundTestDPathEstimator) {
+    const double R = 10.0, n = 1.34, rg = 0.2, sigma = 0.02;
+    ir::SceneIR s = uniformSkyScene();
+    s.render.estimator = ir::Estimator::Path;
+    s.render.maxBounces = 1;
+    s.media.push_back(water(sigma / 2, 0.0, n));
+    s.media.back().layers[0].absorption = Spectrum::constant(sigma);  // all of sigma as absorption
+    s.materials.push_back(material("water", M::Type::Dielectric, M::Solver::Fresnel));
+    s.materials.push_back(material("ground", M::Type::Lambertian, M::Solver::Generic, rg));
+    for (auto& m : s.materials) m.solver.reset();
+    s.meshes.push_back(meshOf("droplet", dome({0, 0, 0}, R, 128, 256), {"water"}, "water", ""));
+    s.meshes.push_back(meshOf("ground", plane(-1000, 1000, -1000, 1000, 0), {"ground"}));
+    ir::Sensor cam = pinhole("nadir", {0, 0, 30}, {0, 0, -1}, {0, 1, 0}, 3, 3, 0.005, 1e-6);
+    cam.samplesPerPixel = 4096;
+    s.sensors.push_back(cam);
+    const Scene scene(s, ".");
+    const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
+    const double rf0 = sqr((n - 1) / (n + 1));
+    const double pred = rf0 / kPi + sqr(1 - rf0) * rg / kPi * std::exp(-2 * sigma * R);
+    double sum = 0, sum2 = 0;
+    for (float v : img.film.pixels) sum += v, sum2 += double(v) * v;
+    const double mean = sum / 9, se = std::sqrt((sum2 / 9 - mean * mean) / 8);
+    EXPECT_NEAR(mean, pred, 4 * se + 2e-4 * pred);
+    EXPECT_LT(se / pred, 0.01);
+    std::printf("[ droplet D path ] centre %.6f +- %.6f (predicted %.7f)\n", mean, se, pred);
+}
+
 }  // namespace
 }  // namespace littoral::render
 

@@ -191,3 +191,43 @@ inline double fresnelEq42(double thetaI, double n1, double n2) {
 }
 
 }  // namespace littoral::render::testing
+
+namespace littoral::render::testing {
+
+// A horizontally periodic water slab over [-L, L]^2, from z = -depth to the surface z = 0: the top
+// face is material slot 0 (the interface), the floor slot 1, the four side walls slot 2 (a
+// Periodic material), closed, with `water` inside. Adds the domain to the scene.
+inline TriMesh periodicSlab(double L, double depth) {
+    TriMesh m;
+    for (int i = 0; i < 8; ++i) m.positions.push_back({(i & 1) ? L : -L, (i & 2) ? L : -L, (i & 4) ? 0.0 : -depth});
+    const uint32_t q[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+    for (int f = 0; f < 6; ++f) {
+        m.triangles.push_back({q[f][0], q[f][1], q[f][2]});
+        m.triangles.push_back({q[f][0], q[f][2], q[f][3]});
+        const uint16_t s = f == 1 ? 0 : f == 0 ? 1 : 2;
+        m.faceMaterial.push_back(s);
+        m.faceMaterial.push_back(s);
+    }
+    orientAway(m, {0, 0, -0.5 * depth});
+    return m;
+}
+
+// Adds a periodic water slab (surface material "surface" Dielectric, floor `floorMaterial`, walls
+// "periodic-wall") to `s`, with the domain set to match.
+inline void addPeriodicSlab(ir::SceneIR& s, const ir::Medium& water, double L, double depth,
+                            const std::string& floorMaterial) {
+    s.domain = {-L, L, -L, L, true};
+    s.media.push_back(water);
+    ir::Material surface;
+    surface.name = "surface";
+    surface.type = ir::Material::Type::Dielectric;
+    ir::Material wall;
+    wall.name = "periodic-wall";
+    wall.type = ir::Material::Type::Periodic;
+    s.materials.push_back(surface);
+    s.materials.push_back(wall);
+    s.meshes.push_back(meshOf("water", periodicSlab(L, depth), {"surface", floorMaterial, "periodic-wall"}, water.name,
+                              "", true));
+}
+
+}  // namespace littoral::render::testing

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "core/units.h"
@@ -35,24 +37,42 @@ double polygonProjectedFraction(const Point3& p, const std::vector<Point3>& poly
     return std::abs(sum) / (2 * kPi);
 }
 
-class SkyFraction : public ::testing::TestWithParam<M::Solver> {};
+// The dirsig estimator's Classic and Generic solvers, and the path estimator (which has no
+// per-material solver; each pixel then takes `samples` paths instead of hemisphere samples).
+enum class Mode { Classic, Generic, Path };
+const char* modeName(Mode m) { return m == Mode::Classic ? "Classic" : m == Mode::Generic ? "Generic" : "Path"; }
+
+// A scene for `mode` with N hemisphere samples (dirsig) or N samples per pixel (path) and GRS
+// bounce limit 2 (sky fraction plus the neighbours' sky fraction; the neighbours here are black).
+ir::SceneIR skyScene(Mode mode, int N) {
+    ir::SceneIR s = uniformSkyScene();
+    s.render.maxBounces = 2;
+    if (const char* e = std::getenv("LITTORAL_TEST_SEED")) s.render.seed = std::stoull(e);
+    if (mode == Mode::Path) s.render.estimator = ir::Estimator::Path;
+    else s.render.hemisphereSamples = N;
+    const M::Solver solver = mode == Mode::Classic ? M::Solver::Classic : M::Solver::Generic;
+    ir::Material ground = material("ground", M::Type::Lambertian, solver, 1.0);
+    if (mode == Mode::Path) ground.solver.reset();
+    s.materials.push_back(ground);
+    s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
+    return s;
+}
+
+class SkyFraction : public ::testing::TestWithParam<Mode> {};
 
 // A single-sheet arc wall of radius 2 m centred on the test point gives an obstruction of exactly
 // constant elevation theta_h over azimuth width phi_w: Eq. 6.1 is exact there.
 TEST_P(SkyFraction, ArcWallMatchesEq61) {
-    const M::Solver solver = GetParam();
+    const Mode mode = GetParam();
     struct Case { double phiW, thetaH; };
     for (const Case cs : {Case{kPi, deg2rad(45)}, Case{0.5 * kPi, deg2rad(60)}, Case{1.5 * kPi, deg2rad(30)}}) {
-        ir::SceneIR s = uniformSkyScene();
-        s.render.hemisphereSamples = 1024;
-        s.render.maxBounces = 2;
-        s.materials.push_back(material("ground", M::Type::Lambertian, solver, 1.0));
-        s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
+        ir::SceneIR s = skyScene(mode, 1024);
         const double rho = 2.0;
         s.meshes.push_back(meshOf("ground", plane(-100, 100, -100, 100, 0), {"ground"}));
         s.meshes.push_back(meshOf("wall", arcWall(0, 0, rho, 0, cs.phiW, rho * std::tan(cs.thetaH), 512), {"black"}));
         // 4 x 4 pixels 0.1 mm apart around the centre: the same F to < 1e-5.
         s.sensors.push_back(ortho("o", {0, 0, 20}, {0, 0, -1}, {0, 1, 0}, 4, 4, 1e-4));
+        if (mode == Mode::Path) s.sensors.back().samplesPerPixel = 1024;
         const Scene scene(s, ".");
         const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
         double sum = 0, sum2 = 0;
@@ -73,8 +93,7 @@ TEST_P(SkyFraction, ArcWallMatchesEq61) {
         const double tol = 4 * sd / std::sqrt(np) + 0.25 / 1024 + 1e-4;
         EXPECT_NEAR(mean, pred, tol) << "phi_w " << cs.phiW << " theta_h " << cs.thetaH;
         std::printf("[ skyfraction arc %s ] phi_w %.3f theta_h %.1f deg: F = %.5f +- %.5f (Eq. 6.1: %.5f)\n",
-                    solver == M::Solver::Classic ? "Classic" : "Generic", cs.phiW, rad2deg(cs.thetaH), mean,
-                    sd / std::sqrt(np), pred);
+                    modeName(mode), cs.phiW, rad2deg(cs.thetaH), mean, sd / std::sqrt(np), pred);
     }
 }
 
@@ -83,17 +102,16 @@ TEST_P(SkyFraction, ArcWallMatchesEq61) {
 // finite-box form of Eq. 6.1 recommended in §3.1). Each pixel's estimate from N stratified
 // hemisphere samples has a standard deviation below the binomial sqrt(F (1 - F) / N).
 TEST_P(SkyFraction, GroundBesideBoxMatchesPolygonViewFactor) {
-    const M::Solver solver = GetParam();
-    ir::SceneIR s = uniformSkyScene();
+    const Mode mode = GetParam();
     const int N = 1024;
-    s.render.hemisphereSamples = N;
-    s.render.maxBounces = 2;
-    s.materials.push_back(material("ground", M::Type::Lambertian, solver, 1.0));
-    s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
+    ir::SceneIR s = skyScene(mode, N);
     s.meshes.push_back(meshOf("ground", plane(-100, 100, -100, 100, 0), {"ground"}));
     s.meshes.push_back(meshOf("box", box({0, -1, 0}, {2, 1, 1.5}), {"black"}, "", "", true));
     const int W = 24, H = 4;
     s.sensors.push_back(ortho("o", {-1.2, 0, 10}, {0, 0, -1}, {0, 1, 0}, W, H, 0.1));
+    // The path estimator jitters its samples over the 0.1 m pixel, where F is nearly linear in x:
+    // the pixel average differs from the centre value by F'' (0.1 m)^2 / 24 < 1e-4.
+    if (mode == Mode::Path) s.sensors.back().samplesPerPixel = N;
     const Scene scene(s, ".");
     const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
     double sumErr = 0, sumVar = 0, minF = 1;
@@ -105,7 +123,7 @@ TEST_P(SkyFraction, GroundBesideBoxMatchesPolygonViewFactor) {
             const double F = 1.0 - polygonProjectedFraction(p, face);
             const double est = img.film.at(i, j, 0) * kPi;
             const double sigma = std::sqrt(F * (1 - F) / N);
-            EXPECT_NEAR(est, F, 4 * sigma + 1e-6) << "pixel " << i << "," << j;
+            EXPECT_NEAR(est, F, 4 * sigma + 1e-4) << "pixel " << i << "," << j;
             sumErr += est - F;
             sumVar += sigma * sigma;
             minF = std::min(minF, F);
@@ -113,16 +131,14 @@ TEST_P(SkyFraction, GroundBesideBoxMatchesPolygonViewFactor) {
         }
     // The mean error over all pixels: standard error sqrt(sum sigma^2)/count.
     const double meanErr = sumErr / count, se = std::sqrt(sumVar) / count;
-    EXPECT_LT(std::abs(meanErr), 4 * se);
+    EXPECT_LT(std::abs(meanErr), 4 * se + 1e-4);
     EXPECT_LT(minF, 0.6);  // the transect reaches the wall, where F approaches 1/2
-    std::printf("[ skyfraction box %s ] %d pixels, F from %.4f, mean error %.2e (se %.2e)\n",
-                solver == M::Solver::Classic ? "Classic" : "Generic", count, minF, meanErr, se);
+    std::printf("[ skyfraction box %s ] %d pixels, F from %.4f, mean error %.2e (se %.2e)\n", modeName(mode), count,
+                minF, meanErr, se);
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, SkyFraction, ::testing::Values(M::Solver::Classic, M::Solver::Generic),
-                         [](const ::testing::TestParamInfo<M::Solver>& i) {
-                             return std::string(i.param == M::Solver::Classic ? "Classic" : "Generic");
-                         });
+INSTANTIATE_TEST_SUITE_P(Solvers, SkyFraction, ::testing::Values(Mode::Classic, Mode::Generic, Mode::Path),
+                         [](const ::testing::TestParamInfo<Mode>& i) { return std::string(modeName(i.param)); });
 
 }  // namespace
 }  // namespace littoral::render
