@@ -1,0 +1,65 @@
+// The documentation's scene-file examples are checked by the scene reader, so docs and code agree:
+// every ```yaml block of docs/scene-format.md that is a whole scene (it has a top-level `scene:`)
+// must pass `littoral check-scene`, and every block that is a `water:` section must pass inside a
+// minimal scene.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace littoral::testing_support;
+
+namespace {
+
+std::vector<std::string> yamlBlocks(const fs::path& md) {
+    std::ifstream in(md);
+    std::vector<std::string> blocks;
+    std::string line, cur;
+    bool inside = false;
+    while (std::getline(in, line)) {
+        if (!inside && line.rfind("```yaml", 0) == 0) {
+            inside = true;
+            cur.clear();
+        } else if (inside && line.rfind("```", 0) == 0) {
+            inside = false;
+            blocks.push_back(cur);
+        } else if (inside) {
+            cur += line + "\n";
+        }
+    }
+    return blocks;
+}
+
+}  // namespace
+
+TEST(DocsExamples, SceneFormatExamplesAreValid) {
+    const fs::path md = fs::path(LITTORAL_SOURCE_DIR) / "docs" / "scene-format.md";
+    const auto blocks = yamlBlocks(md);
+    ASSERT_FALSE(blocks.empty());
+    int scenes = 0, waters = 0;
+    const fs::path dir = scratchDir("docs_examples", "scene_format");
+    for (size_t i = 0; i < blocks.size(); ++i) {
+        std::string text;
+        if (blocks[i].find("\nscene:") != std::string::npos || blocks[i].rfind("scene:", 0) == 0 ||
+            blocks[i].find("\nscene:\n") != std::string::npos) {
+            text = blocks[i];
+            ++scenes;
+        } else if (blocks[i].rfind("water:", 0) == 0) {
+            text = "scene: {name: doc-example}\nsky: {radiance: 1}\n" + blocks[i];
+            ++waters;
+        } else {
+            continue;
+        }
+        const fs::path f = writeTextFile(dir, "example" + std::to_string(i) + ".yaml", text);
+        const CommandResult r = runLittoral("--quiet check-scene " + f.string());
+        EXPECT_EQ(r.status, 0) << "docs/scene-format.md yaml block " << i << ":\n" << text << "\n" << r.output;
+    }
+    EXPECT_GE(scenes, 1);  // the complete annotated example
+    EXPECT_GE(waters, 1);  // the layered water example
+}

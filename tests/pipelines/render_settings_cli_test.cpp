@@ -1,0 +1,128 @@
+// Bad input for scattering water and estimator settings (issue 8): each mistake gets one located
+// error (file:line:column, the key, what is allowed), exit status 1, and nothing is written, from
+// `check-scene`, `build` and `run` alike.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace littoral::testing_support;
+
+namespace {
+
+// A small valid scene; each case replaces one line (or adds some).
+const std::string kBase = R"(scene:
+  name: settings
+  domain: {x: [-10, 10], y: [-10, 10]}
+sun: {zenith_deg: 30, azimuth_deg: 135, irradiance: 1000}
+sky: {radiance: 0}
+water:
+  horizontal: periodic
+  surface: {model: flat, size: [20, 20]}
+  optics:
+    absorption_per_m: 0.1
+    scattering_per_m: 0.3
+    phase: {type: henyey-greenstein, g: 0.9}
+bathymetry: {type: planar_slope, z0_m: -5, spacing_m: 5, material: floor}
+materials:
+  - {name: floor, reflectance: 0.2}
+probes:
+  - {name: p, position: [0, 0, -1], quantities: [Ed]}
+render:
+  estimator: path
+  probe_samples: 64
+  probe_batches: 4
+)";
+
+std::string replaceLine(const std::string& text, const std::string& from, const std::string& to) {
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    std::string s = text;
+    return s.replace(pos, from.size(), to);
+}
+
+struct Case {
+    const char* name;
+    std::string text;
+    const char* where;    // "file:line:column" suffix expected in the message, e.g. ":12:37"
+    const char* message;  // part of the message
+};
+
+void expectRefused(const Case& c) {
+    const fs::path dir = scratchDir("render_settings_cli", c.name);
+    const fs::path scene = writeTextFile(dir, std::string(c.name) + ".yaml", c.text);
+    for (const std::string cmd : {"check-scene", "build", "run"}) {
+        const fs::path out = dir / ("out-" + cmd);
+        const std::string args = cmd == "check-scene" ? scene.string() : scene.string() + " --out " + out.string();
+        const CommandResult r = runLittoral("--quiet " + cmd + " " + args);
+        EXPECT_EQ(r.status, 1) << c.name << " " << cmd << ": " << r.output;
+        EXPECT_NE(r.output.find(scene.filename().string() + c.where + ": error: "), std::string::npos)
+            << c.name << " " << cmd << ": " << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.name << " " << cmd << ": " << r.output;
+        EXPECT_FALSE(fs::exists(out)) << c.name << " " << cmd << ": output left behind";
+    }
+}
+
+}  // namespace
+
+TEST(RenderSettingsCli, BaseSceneIsValid) {
+    const fs::path dir = scratchDir("render_settings_cli", "valid");
+    const fs::path scene = writeTextFile(dir, "valid.yaml", kBase);
+    const CommandResult r = runLittoral("--quiet run " + scene.string() + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "out" / "probes.csv"));
+}
+
+TEST(RenderSettingsCli, PhaseFunctionParameterOutOfRange) {
+    expectRefused({"hg", replaceLine(kBase, "g: 0.9}", "g: 1.2}"), ":12:41", "water.optics.phase.g: 1.2 is out of range"});
+    expectRefused({"ff",
+                   replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand, backscatter_fraction: 0.7}"),
+                   ":12:58", "backscatter_fraction: 0.7 is out of range"});
+    expectRefused({"ff-missing", replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand}"),
+                   ":12:12", "missing required key 'backscatter_fraction'"});
+    expectRefused({"g-on-petzold", replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: petzold, g: 0.9}"),
+                   ":12:31", "'g' is only used by the henyey-greenstein phase function"});
+}
+
+TEST(RenderSettingsCli, LayerStackWithGapsOrOverlaps) {
+    const std::string layered = replaceLine(kBase, R"(    absorption_per_m: 0.1
+    scattering_per_m: 0.3
+    phase: {type: henyey-greenstein, g: 0.9}
+)",
+                                            R"(    layers:
+      - {depth_m: [0, 2], absorption_per_m: 0.1, scattering_per_m: 0.3}
+      - {depth_m: [2, 6], absorption_per_m: 0.2, scattering_per_m: 0.1}
+)");
+    // The valid stack runs.
+    {
+        const fs::path dir = scratchDir("render_settings_cli", "layers-ok");
+        const fs::path scene = writeTextFile(dir, "layers.yaml", layered);
+        const CommandResult r = runLittoral("--quiet check-scene " + scene.string());
+        EXPECT_EQ(r.status, 0) << r.output;
+    }
+    expectRefused({"gap", replaceLine(layered, "depth_m: [2, 6]", "depth_m: [3, 6]"), ":12:19",
+                   "layers must be contiguous: this layer starts at 3 m but the one above ends at 2 m (a gap)"});
+    expectRefused({"overlap", replaceLine(layered, "depth_m: [2, 6]", "depth_m: [1.5, 6]"), ":12:19",
+                   "(an overlap)"});
+    expectRefused({"not-at-surface", replaceLine(layered, "depth_m: [0, 2]", "depth_m: [0.5, 2]"), ":11:19",
+                   "the first layer must start at depth 0"});
+}
+
+TEST(RenderSettingsCli, SettingTheEstimatorDoesNotRead) {
+    expectRefused({"hemisphere-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  hemisphere_samples: 32\n"),
+                   ":22:23", "render.hemisphere_samples: is set, but the 'path' estimator does not read it"});
+    expectRefused({"march-under-dirsig",
+                   replaceLine(replaceLine(replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"),
+                                           "    phase: {type: henyey-greenstein, g: 0.9}\n", ""),
+                               "  probe_batches: 4\n", "  probe_batches: 4\n  march_step_m: 0.2\n"),
+                   ":21:17", "render.march_step_m: is set, but the 'dirsig' estimator does not read it"});
+    expectRefused({"photons-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  photons: {surface: 1000}\n"),
+                   ":22:22", "render.photons.surface: is set, but the 'path' estimator does not read it"});
+    expectRefused({"phase-under-dirsig", replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"), ":10:5",
+                   "water.optics phase: not used: the dirsig estimator treats scattering as loss"});
+    expectRefused({"solver-under-path", replaceLine(kBase, "{name: floor, reflectance: 0.2}", "{name: floor, reflectance: 0.2, solver: generic}"),
+                   ":15:5", "the path estimator does not use per-material solvers"});
+}
