@@ -27,6 +27,7 @@ struct RayCounts {
     int64_t cast = 0, hits = 0, shadow = 0;
 };
 thread_local RayCounts tlsCounts;
+thread_local RayLog* tlsLog = nullptr;
 
 // 2^-18: see the header comment for the derivation (64 float ulp of the coordinate scale).
 constexpr double kOffsetRelative = 0x1.0p-18;
@@ -243,6 +244,7 @@ EmbreeScene::~EmbreeScene() = default;
 bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
     const Impl& s = *impl_;
     ++tlsCounts.cast;
+    if (tlsLog) [[unlikely]] tlsLog->closest.push_back(r);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -297,6 +299,7 @@ bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
 bool EmbreeScene::occluded(const Ray& r) const {
     const Impl& s = *impl_;
     ++tlsCounts.shadow;
+    if (tlsLog) [[unlikely]] tlsLog->occlusion.push_back(r);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay rr;
@@ -308,6 +311,22 @@ bool EmbreeScene::occluded(const Ray& r) const {
 BBox3 EmbreeScene::bounds() const { return impl_->box; }
 uint64_t EmbreeScene::triangleCount() const { return impl_->triangles; }
 bool EmbreeScene::empty() const { return impl_->triangles == 0; }
+
+void setThreadRayLog(RayLog* log) { tlsLog = log; }
+
+uint64_t EmbreeScene::rawOccludedCount(const Ray* rays, size_t n) const {
+    const Impl& s = *impl_;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    uint64_t occ = 0;
+    for (size_t i = 0; i < n; ++i) {
+        RTCRay rr;
+        Impl::setRay(rr, rays[i]);
+        rtcOccluded1(s.scene, &ctx, &rr);
+        occ += rr.tfar == -std::numeric_limits<float>::infinity();
+    }
+    return occ;
+}
 
 uint64_t EmbreeScene::rawIntersectCount(const Ray* rays, size_t n) const {
     const Impl& s = *impl_;

@@ -38,6 +38,14 @@ struct SurfaceHit {
 // the named counters when the thread calls flushRayStats() (the renderer does after every tile).
 void flushRayStats();
 
+// Benchmark support: while a RayLog is installed on a thread, every ray that thread traces through
+// any EmbreeScene is appended to it (closest-hit and occlusion queries separately), so the
+// renderer's actual ray mix can be replayed through bare Embree. Pass nullptr to stop.
+struct RayLog {
+    std::vector<Ray> closest, occlusion;
+};
+void setThreadRayLog(RayLog* log);
+
 // Distance by which spawned rays are pushed off their surface (see the header comment).
 double offsetDistance(const Point3& p);
 // A ray leaving the surface point p (geometric normal ng) in unit direction dir: the origin is
@@ -68,6 +76,8 @@ public:
     // Benchmark baseline: traces rays[0..n) with bare rtcIntersect1 (same BVH, no hit
     // reconstruction, no counters) and returns how many hit something.
     uint64_t rawIntersectCount(const Ray* rays, size_t n) const;
+    // The same with bare rtcOccluded1; returns how many are occluded.
+    uint64_t rawOccludedCount(const Ray* rays, size_t n) const;
 
 private:
     struct Impl;
