@@ -76,6 +76,11 @@ const std::vector<RenderSettingKey>& renderSettingKeys() {
         {"volume_search_radius_m", "search_radius_m.volume",
          [](const RenderSettings& r) { return r.volumeSearchRadius.has_value(); }},
         {"march_step_m", "march_step_m", [](const RenderSettings& r) { return r.marchStep.has_value(); }},
+        {"photon_max_bounces", "photons.max_bounces", [](const RenderSettings& r) { return r.photonMaxBounces.has_value(); }},
+        {"effective_scattering", "photons.effective_scattering",
+         [](const RenderSettings& r) { return r.effectiveScattering.has_value(); }},
+        {"progressive_passes", "progressive.passes", [](const RenderSettings& r) { return r.progressivePasses.has_value(); }},
+        {"progressive_alpha", "progressive.alpha", [](const RenderSettings& r) { return r.progressiveAlpha.has_value(); }},
     };
     return keys;
 }
@@ -133,6 +138,10 @@ std::string toJsonText(const SceneIR& s) {
     opt("surface_search_radius_m", r.surfaceSearchRadius);
     opt("volume_search_radius_m", r.volumeSearchRadius);
     opt("march_step_m", r.marchStep);
+    opt("photon_max_bounces", r.photonMaxBounces);
+    opt("effective_scattering", r.effectiveScattering);
+    opt("progressive_passes", r.progressivePasses);
+    opt("progressive_alpha", r.progressiveAlpha);
     j["render"] = rj;
     j["domain"] = {{"x_m", Json::array({s.domain.x0, s.domain.x1})},
                    {"y_m", Json::array({s.domain.y0, s.domain.y1})},
@@ -156,7 +165,9 @@ std::string toJsonText(const SceneIR& s) {
                               {"absorption_per_m", spectrumJson(l.absorption)},
                               {"scatterers", sc}});
         }
-        media.push_back({{"name", m.name}, {"refractive_index", spectrumJson(m.refractiveIndex)}, {"layers", layers}});
+        Json mj = {{"name", m.name}, {"refractive_index", spectrumJson(m.refractiveIndex)}, {"layers", layers}};
+        if (m.solver) mj["solver"] = nm(*m.solver);
+        media.push_back(mj);
     }
     j["media"] = media;
 
@@ -393,6 +404,10 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         optNum("surface_search_radius_m", &s.render.surfaceSearchRadius);
         optNum("volume_search_radius_m", &s.render.volumeSearchRadius);
         optNum("march_step_m", &s.render.marchStep);
+        optInt("photon_max_bounces", &s.render.photonMaxBounces);
+        if (rr.has("effective_scattering")) s.render.effectiveScattering = rr["effective_scattering"].boolean();
+        optInt("progressive_passes", &s.render.progressivePasses);
+        optNum("progressive_alpha", &s.render.progressiveAlpha);
     }
     {
         auto d = r["domain"];
@@ -423,7 +438,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     auto media = r["media"];
     for (size_t i = 0; i < media.size(); ++i) {
         auto m = media.at(i);
-        m.expectKeys({"name", "refractive_index", "layers"});
+        m.expectKeys({"name", "refractive_index", "layers", "solver"});
         Medium md;
         md.name = m["name"].str();
         md.refractiveIndex = m["refractive_index"].spectrum();
@@ -461,6 +476,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
             md.layers.push_back(ly);
         }
         if (auto err = checkLayers(md); !err.empty()) layers.fail(err);
+        if (m.has("solver")) md.solver = m["solver"].choice<Medium::Solver>();
         s.media.push_back(md);
     }
     auto mats = r["materials"];

@@ -57,9 +57,13 @@ struct Layer {
 // A medium: refractive index and a stack of layers. "air" with n = 1 and no absorption or
 // scattering is implicit when a mesh side names no medium.
 struct Medium {
+    // The dirsig estimator's solver for the medium's in-scattered radiance (Table 10.4). Unset: none
+    // (scattering attenuates, Beer–Lambert with c = a + b); MediumPM: the volume photon map.
+    enum class Solver { MediumPM };
     std::string name;
     Spectrum refractiveIndex = Spectrum::constant(1.0);
     std::vector<Layer> layers{Layer{}};
+    std::optional<Solver> solver;
     SourceLoc origin;  // where a scene file defined it (not serialised; for messages)
 
     // A homogeneous medium with one scatterer (none if b is the constant 0).
@@ -186,6 +190,10 @@ struct RenderSettings {
     std::optional<double> surfaceSearchRadius;  // m
     std::optional<double> volumeSearchRadius;   // m
     std::optional<double> marchStep;            // m, step of in-scatter estimates along rays in water
+    std::optional<int> photonMaxBounces;        // scattering/diffuse events per photon path
+    std::optional<bool> effectiveScattering;    // DIRSIG's effective scattering coefficient (0.01 sr cone)
+    std::optional<int> progressivePasses;       // photon-map passes with shrinking radii
+    std::optional<double> progressiveAlpha;     // radius reduction: r_i^2 = r_1^2 i^(alpha - 1)
     // Where a scene file set each key (scene-file key name -> location); not serialised. Lets
     // errors found later (e.g. "not read by this estimator") point at the scene file.
     std::map<std::string, SourceLoc> locations;
@@ -264,6 +272,10 @@ template <> struct EnumNames<ir::Material::Solver> {
                                                                {ir::Material::Solver::Generic, "generic"},
                                                                {ir::Material::Solver::Fresnel, "fresnel"},
                                                                {ir::Material::Solver::SurfacePM, "surface-pm"}};
+};
+template <> struct EnumNames<ir::Medium::Solver> {
+    static constexpr std::string_view what = "medium solver";
+    static constexpr EnumName<ir::Medium::Solver> table[] = {{ir::Medium::Solver::MediumPM, "medium-pm"}};
 };
 template <> struct EnumNames<ir::Sensor::Type> {
     static constexpr std::string_view what = "sensor type";

@@ -18,6 +18,7 @@ namespace {
 struct RenderCmdOptions {
     std::string irDir, outDir, sensor;
     int threads = 0;
+    bool resume = false;
     littoral::render::PreviewOptions preview;
 };
 
@@ -28,9 +29,12 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
     cmd->add_option("--out", o->outDir, "Output directory")->required();
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--resume", o->resume,
+                  "Continue a progressive photon-mapping render after its last saved pass (DIR/progressive.checkpoint)");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         littoral::render::RenderJobOptions jo;
+        jo.resume = o->resume;
         jo.sensor = o->sensor;
         jo.threads = o->threads;
         jo.preview = o->preview;

@@ -75,6 +75,7 @@ std::string runScene(const RunOptions& o) {
     jo.threads = o.threads;
     jo.progress = o.progress;
     jo.preview = o.preview;
+    jo.resume = o.resume;
     const auto res = render::runRenderJob(built.ir, irDir, out, jo);
     const auto t2 = std::chrono::steady_clock::now();
     std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),

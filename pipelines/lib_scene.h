@@ -33,6 +33,7 @@ struct RunOptions {
     std::string sensor;   // "" = every sensor
     int threads = 0;
     bool progress = true;
+    bool resume = false;  // continue a progressive render (render::RenderJobOptions::resume)
     render::PreviewOptions preview;
 };
 // Builds `scene` into out/ir and renders it into out. Returns a summary of what was written.

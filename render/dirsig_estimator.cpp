@@ -15,14 +15,28 @@
 //    `hemisphereSamples` rays, deeper vertices one each; at most `maxBounces` diffuse vertices
 //    per path (DIRSIG GRS semantics: 0 -> black, 1 -> sky fraction only, 2 -> plus the
 //    neighbours' sky fraction, ...).
-//  * Media attenuate every segment by exp(-Int c ds), c = a + b (Eq. 2.4): scattering counts as
-//    loss (the dissertation's behaviour without a volume photon map).
+//  * SurfacePM (diffuse materials): the surface photon map's irradiance, L = r E / pi, with
+//    E = sum Phi_i / (A f): the photons within the search radius on the same surface (normal within
+//    25 deg, within 0.1 r of its plane, arriving on the side seen), A = pi r^2, and f the fraction
+//    of the search disc that the surface covers (boundary compensation: 16 equal-area points of
+//    the disc are probed for the surface, 64 if any is missing; a disc cut by an edge counts only
+//    its covered part).
+//    The map carries all the light the surface receives: direct sun and sky (refracted through
+//    any waves: caustics), and every scattered and reflected path.
+//  * MediumPM (media): in-scattered radiance along every ray segment from the volume photon map,
+//    the beam estimate of DIRSIG's kernel (Eqs. 9.12–9.13; seed-ch08-09.md §2.2): photons within
+//    distance r of the ray, L_in = sum Phi_i p(w_i -> -d) T(0, t_i) / (pi r^2), gathered in steps
+//    of `march_step_m` along the ray.
+//  * Media attenuate every segment by exp(-Int c ds), c = a + b (Eq. 2.4): without MediumPM,
+//    scattering counts as loss (the dissertation's behaviour without a volume photon map); with
+//    `effective_scattering` the extinction is a + b (1 - f_cone) (Ch. 6.4.7).
 #include <algorithm>
 #include <cmath>
 
 #include "core/frame.h"
 #include "core/units.h"
 #include "render/estimator.h"
+#include "render/photon_pass.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -39,10 +53,13 @@ struct PathState {
     bool skyOnly = false;  // Classic sky rays: opaque surfaces contribute 0
 };
 
+constexpr int kCoverageProbes = 16;
+
 class DirsigEstimator final : public Estimator {
 public:
-    DirsigEstimator(const Scene& scene, const RenderConfig& config, BandGroup group)
-        : Estimator(scene, config, group) {}
+    DirsigEstimator(const Scene& scene, const RenderConfig& config, BandGroup group, const PhotonMaps* maps, int pass)
+        : Estimator(scene, config, group), maps_(maps),
+          rS_(config.radiusAt(config.surfaceRadius, pass)), rV_(config.radiusAt(config.volumeRadius, pass)) {}
 
     Spec Li(const Ray& ray, int medium, RandomStream& rng) const override {
         PathState st;
@@ -59,27 +76,113 @@ public:
     }
 
 private:
+    bool mediumPM(int medium) const { return medium > 0 && config_.mediumPM[static_cast<size_t>(medium - 1)] && maps_; }
+    Spec transmittance(const Ray& ray, double t, int medium) const {
+        return scene_.media()[medium].transmittance(ray, t, group_, config_.effectiveScattering && mediumPM(medium));
+    }
+    // MediumPM: in-scattered radiance along ray.o + t ray.d, t in [0, tMax), from the volume map.
+    Spec volumeInScatter(const Ray& ray, double tMax, int medium) const;
+    // SurfacePM: irradiance at a diffuse hit from the surface map (n: the normal on the side seen).
+    Spec surfaceIrradiance(const SurfaceHit& h, const Normal3& n) const;
     Spec trace(const Ray& ray, const PathState& st, RandomStream& rng) const;
     Spec shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                         RandomStream& rng) const;
     Spec shadeDiffuse(const SurfaceHit& h, const Vec3& wo, const PathState& st, RandomStream& rng) const;
+
+    const PhotonMaps* maps_;
+    double rS_, rV_;  // search radii of this pass
 };
+
+Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) const {
+    Spec L(group_.count);
+    const PhotonMap& vm = maps_->volume;
+    if (vm.size() == 0) return L;
+    const Medium& md = scene_.media()[medium];
+    // An infinite ray is cut where every band's transmittance is below e^-40.
+    double cMin = ir::kInfinity;
+    for (const MediumLayer& l : md.layers())
+        for (int i = 0; i < group_.count; ++i) cMin = std::min(cMin, l.c[group_.begin + i]);
+    // (Cut where every band's transmittance is below e^-20 = 2e-9.)
+    const double tEnd = std::min(tMax, cMin > 0 ? 20.0 / cMin : 1e4);
+    const double inv = 1.0 / (kPi * rV_ * rV_);
+    const bool eff = config_.effectiveScattering;
+    const Vec3 toEye = -ray.d;
+    for (double t0 = 0; t0 < tEnd; t0 += config_.marchStep) {
+        const double t1 = std::min(tEnd, t0 + config_.marchStep);
+        // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
+        // the step crosses a layer boundary, where the walk is used).
+        const Spec T0 = md.transmittance(ray, t0, group_, eff);
+        const int l0 = md.layerAt(ray.at(t0).z), l1 = md.layerAt(ray.at(t1).z);
+        const MediumLayer& layer = md.layers()[l0];
+        vm.forEachNearSegment(ray.o, ray.d, t0, t1, rV_, [&](size_t i, double t) {
+            const Point3 x = vm.position(i);
+            const int li = l0 == l1 ? l0 : md.layerAt(x.z);
+            const Spec p = md.phase(li, group_, vm.direction(i), toEye);
+            Spec T(group_.count);
+            if (l0 == l1) {
+                for (int b = 0; b < group_.count; ++b)
+                    T[b] = T0[b] * std::exp(-(eff ? layer.cEff : layer.c)[group_.begin + b] * (t - t0));
+            } else {
+                T = md.transmittance(ray, t, group_, eff);
+            }
+            for (int b = 0; b < group_.count; ++b) L[b] += T[b] * p[b] * vm.power(i, b) * vm.fluxScale[b] * inv;
+        });
+    }
+    return L;
+}
+
+Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) const {
+    Spec E(group_.count);
+    const PhotonMap& sm = maps_->surface;
+    if (sm.size() == 0) return E;
+    const double slab = 0.1 * rS_;
+    sm.forEachInSphere(h.p, rS_, [&](size_t i) {
+        if (dot(sm.normal(i), n) < 0.9) return;                      // another surface orientation or side
+        if (std::abs(dot(sm.position(i) - h.p, n)) > slab) return;     // off this surface's plane
+        for (int b = 0; b < group_.count; ++b) E[b] += sm.power(i, b) * sm.fluxScale[b];
+    });
+    if (E.isBlack()) return E;
+    // Boundary compensation: the fraction of the search disc that this surface covers, from 16
+    // equal-area points (a Vogel spiral) each probed with a short ray across the surface.
+    const Frame f = Frame::fromNormal(n);
+    auto coverage = [&](int probes) {
+        int covered = 0;
+        for (int k = 0; k < probes; ++k) {
+            const double rho = rS_ * std::sqrt((k + 0.5) / probes), phi = 2.399963229728653 * k;
+            const Point3 q = h.p + f.toWorld(Vec3{rho * std::cos(phi), rho * std::sin(phi), 0});
+            Ray probe;
+            probe.o = q + n * slab;
+            probe.d = -n;
+            probe.tMax = 2 * slab;
+            SurfaceHit ph;
+            if (scene_.geometry().intersect(probe, &ph) && dot(ph.front ? ph.ng : -ph.ng, n) > 0.9) ++covered;
+        }
+        return std::max(covered, 1) / static_cast<double>(probes);
+    };
+    // 16 probes settle the common case of a fully covered disc; a cut disc is measured with 64
+    // (quantisation 1/64 instead of 1/16 of the disc).
+    double fraction = coverage(kCoverageProbes);
+    if (fraction < 1.0) fraction = coverage(4 * kCoverageProbes);
+    return E * (1.0 / (kPi * rS_ * rS_ * fraction));
+}
 
 Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& rng) const {
     SurfaceHit h;
     const Medium& medium = scene_.media()[st.medium];
     if (!scene_.geometry().intersect(ray, &h)) {
-        // An infinitely long path through an attenuating medium carries nothing.
-        if (medium.attenuating()) return Spec(group_.count);
-        return environment(ray.d, st.chain.countsSun());
+        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, ir::kInfinity, st.medium) : Spec(group_.count);
+        // An infinitely long path through an attenuating medium carries nothing more.
+        if (medium.attenuating()) return L;
+        return L + environment(ray.d, st.chain.countsSun());
     }
     const MaterialData& m = scene_.material(h);
     if (m.isPeriodicWall()) {
         const auto next = scene_.wrapRay(h, ray.d);
-        if (!next || st.wraps >= Scene::kMaxWraps) return Spec(group_.count);
+        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, h.t, st.medium) : Spec(group_.count);
+        if (!next || st.wraps >= Scene::kMaxWraps) return L;
         PathState s2 = st;
         ++s2.wraps;
-        return trace(*next, s2, rng) * medium.transmittance(ray, h.t, group_);
+        return L + trace(*next, s2, rng) * transmittance(ray, h.t, st.medium);
     }
     // The segment's medium: an interface knows its own sides (trusted over the carried medium);
     // an opaque surface is reached through whatever medium the ray carries.
@@ -95,8 +198,9 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
         s2.medium = segMedium;
         Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
     }
-    if (Lsurf.isBlack()) return Lsurf;
-    return Lsurf * scene_.media()[segMedium].transmittance(ray, h.t, group_);
+    const Spec inScatter = mediumPM(segMedium) ? volumeInScatter(ray, h.t, segMedium) : Spec(group_.count);
+    if (Lsurf.isBlack()) return inScatter;
+    return Lsurf * transmittance(ray, h.t, segMedium) + inScatter;
 }
 
 Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
@@ -149,6 +253,10 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     if (rho.isBlack()) return L;
     // Shade the side the ray arrived on (surfaces are two-sided).
     const Normal3 n = h.front ? h.ng : -h.ng;
+    if (config_.solvers[scene_.materialIndex(h)] == ir::Material::Solver::SurfacePM) {
+        rng.uniform(), rng.uniform();  // the sun estimate's numbers: keep the stream layout
+        return maps_ ? rho * surfaceIrradiance(h, n) * kInvPi : L;
+    }
 
     // Direct sun: Lambertian radiance r E_sun cos(theta_s) / pi.
     const SunBeam sun = sunBeam(h.p, h.ng, n, st.medium, rng);
@@ -195,8 +303,9 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
 
 }  // namespace
 
-std::unique_ptr<Estimator> makeDirsigEstimator(const Scene& scene, const RenderConfig& config, BandGroup group) {
-    return std::make_unique<DirsigEstimator>(scene, config, group);
+std::unique_ptr<Estimator> makeDirsigEstimator(const Scene& scene, const RenderConfig& config, BandGroup group,
+                                               const PhotonMaps* maps, int pass) {
+    return std::make_unique<DirsigEstimator>(scene, config, group, maps, pass);
 }
 
 }  // namespace littoral::render

@@ -10,11 +10,14 @@
 #include "core/log.h"
 #include "core/suggest.h"
 #include "core/units.h"
+#include "render/photon_pass.h"
 #include "render/sampling.h"
+
+#include <unistd.h>
 
 namespace littoral::render {
 
-std::unique_ptr<Estimator> makeDirsigEstimator(const Scene&, const RenderConfig&, BandGroup);
+std::unique_ptr<Estimator> makeDirsigEstimator(const Scene&, const RenderConfig&, BandGroup, const PhotonMaps*, int);
 std::unique_ptr<Estimator> makePathEstimator(const Scene&, const RenderConfig&, BandGroup);
 
 namespace {
@@ -63,6 +66,17 @@ private:
     throw InputError(fmt::format("materials[{}] '{}': {}", i, m.name, msg));
 }
 
+[[noreturn]] void mediumError(const ir::Medium& m, size_t i, const std::string& msg) {
+    if (!m.origin.file.empty()) throw InputError(m.origin, fmt::format("medium '{}': {}", m.name, msg));
+    throw InputError(fmt::format("media[{}] '{}': {}", i, m.name, msg));
+}
+
+// The memory budget for photon maps: 3/4 of the machine's physical memory.
+double photonMemoryBudget() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && page > 0 ? 0.75 * static_cast<double>(pages) * static_cast<double>(page) : 4.0 * (1ull << 30);
+}
+
 }  // namespace
 
 RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
@@ -82,8 +96,51 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
             c.maxBounces = r.get(s.maxBounces, "max_bounces", 8, 0, 100000);
             c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 16, 0, 100000);
             c.hemisphereSamples = r.get(s.hemisphereSamples, "hemisphere_samples", 64, 1, 1 << 20);
-            r.finish("dirsig", "photon maps (photons, search_radius_m, march_step_m) are not built by this version");
-            std::vector<std::string> standIns;
+            // Photon maps: read only when some material or medium uses a photon-map solver.
+            int surfacePM = -1, mediumPM = -1;
+            for (size_t i = 0; i < ir.materials.size(); ++i)
+                if (ir.materials[i].solver == S::SurfacePM && surfacePM < 0) surfacePM = static_cast<int>(i);
+            for (size_t i = 0; i < ir.media.size(); ++i) {
+                c.mediumPM.push_back(ir.media[i].solver == ir::Medium::Solver::MediumPM);
+                if (c.mediumPM.back() && mediumPM < 0) mediumPM = static_cast<int>(i);
+            }
+            if (surfacePM >= 0) {
+                if (!s.surfacePhotons)
+                    materialError(ir.materials[surfacePM], static_cast<size_t>(surfacePM),
+                                  "the surface-pm solver needs the surface photon map: set render.photons.surface");
+                c.surfacePhotons = r.get(s.surfacePhotons, "surface_photons", uint64_t{0}, uint64_t{1}, uint64_t{10'000'000'000});
+                c.surfaceRadius = r.get(s.surfaceSearchRadius, "surface_search_radius_m", 0.4, 1e-4, 100.0, "m");
+            }
+            if (mediumPM >= 0) {
+                if (!s.volumePhotons)
+                    mediumError(ir.media[mediumPM], static_cast<size_t>(mediumPM),
+                                "the medium-pm solver needs the volume photon map: set render.photons.volume");
+                c.volumePhotons = r.get(s.volumePhotons, "volume_photons", uint64_t{0}, uint64_t{1}, uint64_t{10'000'000'000});
+                c.volumeRadius = r.get(s.volumeSearchRadius, "volume_search_radius_m", 0.4, 1e-4, 100.0, "m");
+                c.marchStep = r.get(s.marchStep, "march_step_m", 0.1, 1e-4, 1e4, "m");
+                c.effectiveScattering = r.get(s.effectiveScattering, "effective_scattering", false, false, true);
+            }
+            if (c.usesPhotons()) {
+                c.photonMaxBounces = r.get(s.photonMaxBounces, "photon_max_bounces", 200, 1, 100000);
+                c.passes = r.get(s.progressivePasses, "progressive_passes", 1, 1, 100000);
+                c.alpha = r.get(s.progressiveAlpha, "progressive_alpha", 2.0 / 3.0, 0.05, 0.99);
+                // The maps of the largest band group must fit in the memory budget.
+                const int bands = std::min<int>(static_cast<int>(s.bands.size()), kMaxGroupBands);
+                const double need =
+                    static_cast<double>(c.surfacePhotons) * (20 + 2 * bands) + static_cast<double>(c.volumePhotons) * (16 + 2 * bands);
+                const double budget = photonMemoryBudget();
+                if (need * 1.3 > budget)  // records plus grid and chunk overshoot (photonMapBytes)
+                    r.fail(c.volumePhotons * (16 + 2 * bands) > c.surfacePhotons * (20 + 2 * bands) ? "volume_photons" : "surface_photons",
+                           fmt::format("{} surface and {} volume photons need {:.1f} GiB ({} and {} bytes each with {} "
+                                       "band(s), plus the search grid), more than the memory budget of {:.1f} GiB "
+                                       "(3/4 of this machine's memory)",
+                                       c.surfacePhotons, c.volumePhotons, need * 1.3 / (1ull << 30), 20 + 2 * bands,
+                                       16 + 2 * bands, bands, budget / (1ull << 30)));
+            }
+            r.finish("dirsig", surfacePM < 0 && mediumPM < 0
+                                   ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read only "
+                                     "when a material uses solver surface-pm or the water uses solver medium-pm"
+                                   : "");
             for (size_t i = 0; i < ir.materials.size(); ++i) {
                 const ir::Material& m = ir.materials[i];
                 const bool diffuse = m.type == T::Lambertian || m.type == T::Textured;
@@ -101,18 +158,8 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
                         materialError(m, i, fmt::format("an interface needs the fresnel (or generic) solver, not {}",
                                                         nameOf(solver)));
                 }
-                if (solver == S::SurfacePM) {
-                    // Until the surface photon map exists, Generic stands in: both estimate the same
-                    // integral (sky fraction plus background reflections, dissertation Ch. 6).
-                    standIns.push_back("'" + m.name + "'");
-                    solver = S::Generic;
-                }
                 c.solvers.push_back(solver);
             }
-            if (!standIns.empty())
-                log::warnOnce("material(s) {}: the SurfacePM solver needs the surface photon map, which this version "
-                              "does not build; rendering with the Generic solver (same integral, hemisphere sampling)",
-                              joinList(standIns));
             break;
         }
         case ir::Estimator::Path: {
@@ -129,6 +176,13 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
                                                     "solver '{}' or choose estimator: dirsig",
                                                     nameOf(*m.solver)));
                 c.solvers.push_back(S::Generic);
+            }
+            for (size_t i = 0; i < ir.media.size(); ++i) {
+                if (ir.media[i].solver)
+                    mediumError(ir.media[i], i, fmt::format("the path estimator does not use medium solvers; remove "
+                                                            "solver '{}' or choose estimator: dirsig",
+                                                            nameOf(*ir.media[i].solver)));
+                c.mediumPM.push_back(false);
             }
             break;
         }
@@ -161,17 +215,42 @@ Estimator::Estimator(const Scene& scene, const RenderConfig& config, BandGroup g
     LITTORAL_CHECK_EQ(config.solvers.size(), scene.materials().size());
 }
 
-std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderConfig& config, BandGroup group) {
+std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderConfig& config, BandGroup group,
+                                             const PhotonMaps* maps, int pass) {
     switch (config.estimator) {
-        case ir::Estimator::Dirsig: return makeDirsigEstimator(scene, config, group);
+        case ir::Estimator::Dirsig: return makeDirsigEstimator(scene, config, group, maps, pass);
         case ir::Estimator::Path: return makePathEstimator(scene, config, group);
     }
     throw InternalError("unknown estimator");
 }
 
-EstimatorSet::EstimatorSet(const Scene& scene) : config_(makeRenderConfig(scene.ir())), groups_(bandGroups(scene)) {
-    for (const BandGroup& g : groups_) estimators_.push_back(Estimator::create(scene, config_, g));
+EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progress)
+    : config_(makeRenderConfig(scene.ir())), groups_(bandGroups(scene)), pass_(pass) {
+    for (const BandGroup& g : groups_) {
+        const PhotonMaps* maps = nullptr;
+        if (config_.usesPhotons()) {
+            PhotonPassSettings ps;
+            ps.surfaceTarget = config_.surfacePhotons;
+            ps.volumeTarget = config_.volumePhotons;
+            ps.maxBounces = config_.photonMaxBounces;
+            ps.effectiveScattering = config_.effectiveScattering;
+            ps.seed = scene.ir().render.seed;
+            ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);
+            ps.cellSize = std::max(config_.radiusAt(config_.surfaceRadius, pass), config_.radiusAt(config_.volumeRadius, pass));
+            ps.threads = threads;
+            ps.progress = progress;
+            ps.volumeMedium.assign(scene.media().size(), false);
+            for (size_t m = 0; m < config_.mediumPM.size(); ++m) ps.volumeMedium[m + 1] = config_.mediumPM[m];
+            for (size_t m = 0; m < config_.solvers.size(); ++m)
+                ps.surfaceMaterial.push_back(config_.solvers[m] == ir::Material::Solver::SurfacePM);
+            maps_.push_back(std::make_unique<PhotonMaps>(tracePhotons(scene, g, ps)));
+            maps = maps_.back().get();
+        }
+        estimators_.push_back(Estimator::create(scene, config_, g, maps, pass));
+    }
 }
+
+EstimatorSet::~EstimatorSet() = default;
 
 Spec Estimator::bandValues(const std::vector<double>& v) const {
     Spec s(group_.count);

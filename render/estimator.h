@@ -13,6 +13,7 @@
 // Settings: makeRenderConfig() reads every render setting the chosen estimator uses (with its
 // default and allowed range) and refuses, with an InputError naming it, any setting that is set
 // but that the estimator does not read, and any material solver the estimator does not honour.
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,9 +34,21 @@ struct RenderConfig {
     int hemisphereSamples = 64;  // dirsig: rays at the first diffuse vertex
     int probeSamples = 4096;     // sample paths per probe quantity
     int probeBatches = 16;       // independent batches (standard errors from their spread)
-    double marchStep = 0.1;      // path: spacing of sun estimates along rays in scattering water (m)
+    double marchStep = 0.1;      // path: spacing of sun estimates; dirsig MediumPM: gather step along rays (m)
     // Per material (index as in the IR): the dirsig solver that evaluates it.
     std::vector<ir::Material::Solver> solvers;
+    // Photon maps (dirsig with SurfacePM materials or MediumPM media).
+    std::vector<bool> mediumPM;  // per IR medium
+    uint64_t surfacePhotons = 0, volumePhotons = 0;
+    double surfaceRadius = 0.4, volumeRadius = 0.4;  // m, first pass
+    int photonMaxBounces = 200;
+    bool effectiveScattering = false;
+    int passes = 1;             // progressive passes
+    double alpha = 2.0 / 3.0;   // radius reduction per pass (Knaus & Zwicker 2011)
+    bool usesPhotons() const { return surfacePhotons > 0 || volumePhotons > 0; }
+    // Search radius of pass p (1-based): r_p^2 = r_1^2 p^(alpha - 1), for the 2-D kernels of both
+    // estimates (the surface disc and the beam's cross-section).
+    double radiusAt(double r1, int pass) const { return r1 * std::pow(static_cast<double>(pass), 0.5 * (alpha - 1.0)); }
 };
 
 // Resolves and checks the render settings of a Scene IR (no geometry needed, so `littoral
@@ -47,6 +60,8 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir);
 // Groups consecutive render bands into band groups (see BandGroup).
 std::vector<BandGroup> bandGroups(const Scene& scene);
 
+struct PhotonMaps;
+
 class Estimator {
 public:
     Estimator(const Scene& scene, const RenderConfig& config, BandGroup group);
@@ -54,7 +69,10 @@ public:
     Estimator(const Estimator&) = delete;
     Estimator& operator=(const Estimator&) = delete;
 
-    static std::unique_ptr<Estimator> create(const Scene& scene, const RenderConfig& config, BandGroup group);
+    // `maps` (the photon maps of this group and pass, or null) and `pass` (1-based) are used by the
+    // dirsig estimator's SurfacePM and MediumPM solvers.
+    static std::unique_ptr<Estimator> create(const Scene& scene, const RenderConfig& config, BandGroup group,
+                                             const PhotonMaps* maps = nullptr, int pass = 1);
 
     // Radiance arriving at ray.o from direction -ray.d (unit), per band of the group, for a ray
     // that starts in `medium` (a sensor ray: the solar disc counts wherever a path reaches it).
@@ -116,16 +134,22 @@ protected:
 // and shared by every sensor and probe.
 class EstimatorSet {
 public:
-    explicit EstimatorSet(const Scene& scene);
+    // For progressive photon mapping, pass p (1-based) traces its own photon maps (random streams
+    // keyed by the pass) with the pass's radii.
+    explicit EstimatorSet(const Scene& scene, int pass = 1, int threads = 0, bool progress = false);
+    ~EstimatorSet();
     const RenderConfig& config() const { return config_; }
     const std::vector<BandGroup>& groups() const { return groups_; }
     const Estimator& forGroup(size_t i) const { return *estimators_[i]; }
     size_t size() const { return estimators_.size(); }
+    int pass() const { return pass_; }
 
 private:
     RenderConfig config_;
     std::vector<BandGroup> groups_;
+    std::vector<std::unique_ptr<PhotonMaps>> maps_;
     std::vector<std::unique_ptr<Estimator>> estimators_;
+    int pass_ = 1;
 };
 
 // Which interface events since the last scattering vertex (diffuse hit, medium collision or probe)

@@ -51,6 +51,7 @@ Medium Medium::air(size_t bandCount) {
     l.a.assign(bandCount, 0.0);
     l.b = l.a;
     l.c = l.a;
+    l.cEff = l.a;
     m.layers_.push_back(std::move(l));
     return m;
 }
@@ -86,11 +87,16 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
             }
         }
         d.c.resize(nb);
+        d.cEff.resize(nb);
         d.weights.assign(nb, std::vector<double>(bi.size(), bi.empty() ? 0.0 : 1.0 / bi.size()));
         for (size_t k = 0; k < nb; ++k) {
             if (!(d.a[k] >= 0))
                 throw InputError(fmt::format("{}: absorption coefficient {} in band {} (need a >= 0)", lw, d.a[k], k));
             d.c[k] = d.a[k] + d.b[k];
+            double fCone = 0;  // b-weighted fraction of scattering into the 0.01 sr forward cone
+            for (size_t i = 0; i < bi.size(); ++i)
+                if (d.b[k] > 0) fCone += bi[i][k] / d.b[k] * d.phases[i].forwardConeFraction(1.0 - 0.01 / (2.0 * kPi));
+            d.cEff[k] = d.a[k] + d.b[k] * (1.0 - fCone);
             attenuating_ |= d.c[k] > 0;
             scattering_ |= d.b[k] > 0;
             if (d.b[k] > 0)
@@ -135,21 +141,23 @@ template <class F> void Medium::walk(const Ray& r, double t, F&& f) const {
     }
 }
 
-Spec Medium::opticalDepth(const Ray& r, double t, BandGroup g) const {
+Spec Medium::opticalDepth(const Ray& r, double t, BandGroup g, bool effective) const {
     Spec tau(g.count, 0.0);
     walk(r, t, [&](int li, double t0, double t1) {
         const MediumLayer& l = layers_[li];
         for (int i = 0; i < g.count; ++i) {
-            const double c = l.c[g.begin + i];
+            const double c = effective ? l.cEff[g.begin + i] : l.c[g.begin + i];
             if (c > 0) tau[i] += c * (t1 - t0);  // inf * c = inf for an infinite leg
         }
     });
     return tau;
 }
 
-Spec Medium::transmittance(const Ray& r, double t, BandGroup g) const {
+Spec Medium::transmittance(const Ray& r, double t, BandGroup g) const { return transmittance(r, t, g, false); }
+
+Spec Medium::transmittance(const Ray& r, double t, BandGroup g, bool effective) const {
     if (!attenuating_) return Spec(g.count, 1.0);
-    Spec tau = opticalDepth(r, t, g);
+    Spec tau = opticalDepth(r, t, g, effective);
     for (int i = 0; i < g.count; ++i) tau[i] = std::exp(-tau[i]);
     return tau;
 }

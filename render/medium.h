@@ -38,6 +38,8 @@ inline constexpr int kMaxScatterers = 16;  // per layer
 struct MediumLayer {
     double zTop = ir::kInfinity, zBottom = -ir::kInfinity;
     std::vector<double> a, b, c;                 // per render band, m^-1
+    std::vector<double> cEff;                    // a + b (1 - f), f = fraction scattered into the 0.01 sr
+                                                 // forward cone (DIRSIG's effective scattering coefficient)
     std::vector<PhaseFunction> phases;           // one per scatterer
     std::vector<std::vector<double>> weights;    // [band][scatterer] = b_i / b (b > 0), else 1/n
 };
@@ -74,8 +76,10 @@ public:
 
     // exp(-Int_0^t c ds) per band along the unit-direction ray; t may be infinite (0 where c > 0).
     Spec transmittance(const Ray& r, double t, BandGroup g) const;
-    // Optical depth Int_0^t c ds per band (infinite where c > 0 and t is).
-    Spec opticalDepth(const Ray& r, double t, BandGroup g) const;
+    // Optical depth Int_0^t c ds per band (infinite where c > 0 and t is). With `effective`, the
+    // effective extinction a + b (1 - f_cone) (small-angle scattering counted as unscattered).
+    Spec opticalDepth(const Ray& r, double t, BandGroup g, bool effective = false) const;
+    Spec transmittance(const Ray& r, double t, BandGroup g, bool effective) const;
     // Free-flight sampling along [0, tMax) (tMax may be infinite); uBand picks the hero band.
     FreeFlight sampleFreeFlight(const Ray& r, double tMax, BandGroup g, double uBand, double u) const;
 

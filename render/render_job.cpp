@@ -6,9 +6,123 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/suggest.h"
+#include "render/estimator.h"
+
+#include <cstring>
+#include <nlohmann/json.hpp>
 #include "render/image_output.h"
 
 namespace littoral::render {
+
+namespace {
+
+// Running sums over progressive passes: images pixel by pixel, probes value by value (and the
+// squares of the pass values, for the spread).
+struct ProgressiveState {
+    size_t irHash = 0;
+    int passesDone = 0;
+    std::vector<std::vector<double>> imageSums;
+    std::vector<std::vector<double>> probeSums, probeSquares;
+
+    void accumulate(const std::vector<SensorImage>& images, const std::vector<ProbeValue>& probes) {
+        if (imageSums.empty()) imageSums.resize(images.size());
+        for (size_t i = 0; i < images.size(); ++i) {
+            auto& s = imageSums[i];
+            s.resize(images[i].film.pixels.size(), 0.0);
+            for (size_t k = 0; k < s.size(); ++k) s[k] += images[i].film.pixels[k];
+        }
+        if (probeSums.empty()) {
+            probeSums.resize(probes.size());
+            probeSquares.resize(probes.size());
+        }
+        for (size_t i = 0; i < probes.size(); ++i) {
+            probeSums[i].resize(probes[i].mean.size(), 0.0);
+            probeSquares[i].resize(probes[i].mean.size(), 0.0);
+            for (size_t b = 0; b < probes[i].mean.size(); ++b) {
+                probeSums[i][b] += probes[i].mean[b];
+                probeSquares[i][b] += probes[i].mean[b] * probes[i].mean[b];
+            }
+        }
+        ++passesDone;
+    }
+
+    // The means over passes, written into the last pass's results (which carry the truth images,
+    // names and units).
+    void finish(std::vector<SensorImage>* outImages, std::vector<ProbeValue>* outProbes, std::vector<SensorImage>& last,
+                std::vector<ProbeValue>& lastProbes) const {
+        const double n = passesDone;
+        for (size_t i = 0; i < last.size(); ++i)
+            for (size_t k = 0; k < last[i].film.pixels.size(); ++k)
+                last[i].film.pixels[k] = static_cast<float>(imageSums[i][k] / n);
+        for (size_t i = 0; i < lastProbes.size(); ++i)
+            for (size_t b = 0; b < lastProbes[i].mean.size(); ++b) {
+                const double mean = probeSums[i][b] / n;
+                lastProbes[i].mean[b] = mean;
+                if (passesDone >= 2) {
+                    // Passes are independent (each its own photon maps): their spread includes the
+                    // maps' noise, which the batches within one pass do not see.
+                    const double var = std::max(0.0, (probeSquares[i][b] - n * mean * mean) / (n - 1));
+                    lastProbes[i].stderr_[b] = std::sqrt(var / n);
+                }
+            }
+        *outImages = std::move(last);
+        *outProbes = std::move(lastProbes);
+    }
+};
+
+void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st) {
+    std::filesystem::create_directories(dir);
+    nlohmann::json j;
+    j["format"] = "littoral-progressive-checkpoint";
+    j["ir_hash"] = std::to_string(st.irHash);
+    j["passes_done"] = st.passesDone;
+    j["probe_sums"] = st.probeSums;
+    j["probe_squares"] = st.probeSquares;
+    std::vector<size_t> sizes;
+    for (const auto& v : st.imageSums) sizes.push_back(v.size());
+    j["image_sizes"] = sizes;
+    for (size_t i = 0; i < st.imageSums.size(); ++i) {
+        const auto& v = st.imageSums[i];
+        writeTextFileAtomic(dir / fmt::format("image{}.f64", i),
+                            std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double)));
+    }
+    writeTextFileAtomic(dir / "state.json", j.dump(1) + "\n");
+}
+
+ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash) {
+    const auto file = dir / "state.json";
+    if (!std::filesystem::exists(file))
+        throw InputError(SourceLoc{file.string()}, "--resume: no progressive checkpoint here (a run saves one after "
+                                                   "every pass but the last)");
+    ProgressiveState st;
+    try {
+        const auto j = nlohmann::json::parse(readTextFile(file));
+        if (j.at("format") != "littoral-progressive-checkpoint") throw InputError("not a checkpoint");
+        if (j.at("ir_hash").get<std::string>() != std::to_string(irHash))
+            throw InputError(SourceLoc{file.string()}, "--resume: the checkpoint was made by a different scene (the IR "
+                                                       "changed since); start the render again without --resume");
+        st.irHash = irHash;
+        st.passesDone = j.at("passes_done").get<int>();
+        st.probeSums = j.at("probe_sums").get<std::vector<std::vector<double>>>();
+        st.probeSquares = j.at("probe_squares").get<std::vector<std::vector<double>>>();
+        const auto sizes = j.at("image_sizes").get<std::vector<size_t>>();
+        for (size_t i = 0; i < sizes.size(); ++i) {
+            const std::string raw = readTextFile(dir / fmt::format("image{}.f64", i));
+            if (raw.size() != sizes[i] * sizeof(double)) throw InputError("image sums truncated");
+            std::vector<double> v(sizes[i]);
+            std::memcpy(v.data(), raw.data(), raw.size());
+            st.imageSums.push_back(std::move(v));
+        }
+    } catch (const InputError& e) {
+        if (!e.where().file.empty()) throw;
+        throw InputError(SourceLoc{file.string()}, "--resume: unreadable checkpoint: " + e.message());
+    } catch (const std::exception& e) {
+        throw InputError(SourceLoc{file.string()}, std::string("--resume: unreadable checkpoint: ") + e.what());
+    }
+    return st;
+}
+
+}  // namespace
 
 RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
                              const std::filesystem::path& outDir, const RenderJobOptions& opts) {
@@ -30,16 +144,41 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     ro.threads = opts.threads;
     ro.progress = opts.progress;
     RenderJobResult res;
-    // One estimator per band group, shared by every sensor and probe (settings checked here).
-    const EstimatorSet estimators(scene);
+    const RenderConfig config = makeRenderConfig(ir);  // settings checked before any work
     // Validate every sensor's view before spending time on radiance.
     for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
-    for (const ir::Sensor* s : sensors) res.images.push_back(renderSensor(scene, estimators, *s, ro));
-    if (opts.sensor.empty())
-        for (size_t i = 0; i < ir.probes.size(); ++i) {
-            auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
-            res.probes.insert(res.probes.end(), v.begin(), v.end());
+    const bool probesToo = opts.sensor.empty();
+
+    // Progressive passes (one unless photon maps with render.progressive.passes > 1).
+    const int passes = config.usesPhotons() ? config.passes : 1;
+    ProgressiveState state;
+    state.irHash = std::hash<std::string>{}(ir::toJsonText(ir));
+    const auto ckptDir = outDir / "progressive.checkpoint";
+    int first = 1;
+    if (opts.resume) {
+        if (passes < 2) throw InputError("--resume: this scene renders in a single pass (render.progressive.passes)");
+        state = loadCheckpoint(ckptDir, state.irHash);
+        first = state.passesDone + 1;
+        log::info("resuming after pass {} of {}", state.passesDone, passes);
+    }
+    for (int pass = first; pass <= passes; ++pass) {
+        // One estimator per band group (and its photon maps), shared by every sensor and probe.
+        const EstimatorSet estimators(scene, pass, opts.threads, opts.progress);
+        std::vector<SensorImage> images;
+        for (const ir::Sensor* s : sensors) images.push_back(renderSensor(scene, estimators, *s, ro));
+        std::vector<ProbeValue> probes;
+        if (probesToo)
+            for (size_t i = 0; i < ir.probes.size(); ++i) {
+                auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
+                probes.insert(probes.end(), v.begin(), v.end());
+            }
+        state.accumulate(images, probes);
+        if (passes > 1) {
+            log::info("progressive pass {} of {} done", pass, passes);
+            if (pass < passes) saveCheckpoint(ckptDir, state);
         }
+        if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
+    }
 
     // Everything computed: now write.
     std::error_code ec;
@@ -69,6 +208,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         res.written.push_back(outDir / "probes.csv");
         res.written.push_back(outDir / "probes.json");
     }
+    std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
     return res;
 }
 

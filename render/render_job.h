@@ -11,6 +11,11 @@
 //   S_truth.exr        materialId, range (m), hitDepth (m) of the pixel-centre rays
 //   S_material.png     false-colour material ids
 // and, if the scene has probes, probes.csv and probes.json.
+//
+// With progressive photon mapping the images and probe values are the means over the passes
+// (each pass its own photon maps, radii shrinking as r_p = r_1 p^((alpha - 1)/2)); the probes'
+// standard errors are then the spread of the pass means over sqrt(passes), which includes the
+// photon maps' own noise.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,6 +31,11 @@ struct RenderJobOptions {
     std::string sensor;    // render only this sensor ("" = all)
     int threads = 0;       // 0 = all cores
     bool progress = true;
+    // Progressive photon mapping (render.progressive.passes > 1): after every pass the running
+    // sums are saved to DIR/progressive.checkpoint/; with `resume` a run continues after the last
+    // saved pass of a checkpoint made by the same IR (InputError otherwise). The checkpoint is
+    // removed when the last pass is done and the outputs are written.
+    bool resume = false;
     PreviewOptions preview;  // PNG display mapping: gamma, white level, Gaussian blur (image_output.h)
 };
 

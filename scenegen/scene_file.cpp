@@ -319,7 +319,11 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
     if (auto op = n.optional("optics")) {
         o.loc = op->loc();
         op->expectKeys({"preset", "constituents", "refractive_index", "absorption_per_m", "scattering_per_m", "phase",
-                        "interface", "layers"});
+                        "interface", "layers", "solver"});
+        if (auto sv = op->optional("solver")) {
+            o.solver = sv->asEnum(allNames<ir::Medium::Solver>());
+            o.solverLoc = sv->loc();
+        }
         if (auto ri = op->optional("refractive_index")) o.refractiveIndex = parseSpectrum(*ri, 1.0, 3.0, "");
         if (auto ls = op->optional("layers")) {
             for (const char* k : {"preset", "constituents", "absorption_per_m", "scattering_per_m", "phase"})
@@ -351,7 +355,7 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
 
 void parseRender(const YamlNode& n, RenderSection* r) {
     n.expectKeys({"estimator", "bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
-                  "probe_samples", "probe_batches", "photons", "search_radius_m", "march_step_m"});
+                  "probe_samples", "probe_batches", "photons", "search_radius_m", "march_step_m", "progressive"});
     auto& s = r->settings;
     if (auto e = n.optional("estimator")) {
         s.estimator = *parseName<ir::Estimator>(e->asEnum(allNames<ir::Estimator>()));
@@ -396,9 +400,22 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     optInt(n, "probe_samples", "probe_samples", 2, 1 << 30, &s.probeSamples);
     optInt(n, "probe_batches", "probe_batches", 2, 4096, &s.probeBatches);
     if (auto p = n.optional("photons")) {
-        p->expectKeys({"surface", "volume"});
-        optInt(*p, "surface", "photons.surface", 0, 10'000'000'000LL, &s.surfacePhotons);
-        optInt(*p, "volume", "photons.volume", 0, 10'000'000'000LL, &s.volumePhotons);
+        p->expectKeys({"surface", "volume", "max_bounces", "effective_scattering"});
+        optInt(*p, "surface", "photons.surface", 1, 10'000'000'000LL, &s.surfacePhotons);
+        optInt(*p, "volume", "photons.volume", 1, 10'000'000'000LL, &s.volumePhotons);
+        optInt(*p, "max_bounces", "photons.max_bounces", 1, 100000, &s.photonMaxBounces);
+        if (auto e = p->optional("effective_scattering")) {
+            s.effectiveScattering = e->asBool();
+            s.locations["photons.effective_scattering"] = e->loc();
+        }
+    }
+    if (auto pr = n.optional("progressive")) {
+        pr->expectKeys({"passes", "alpha"});
+        optInt(*pr, "passes", "progressive.passes", 1, 100000, &s.progressivePasses);
+        if (auto a = pr->optional("alpha")) {
+            s.progressiveAlpha = a->asDouble(0.05, 0.99);
+            s.locations["progressive.alpha"] = a->loc();
+        }
     }
     if (auto sr = n.optional("search_radius_m")) {
         sr->expectKeys({"surface", "volume"});
@@ -475,14 +492,15 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         }
         checkCover(o.refractiveIndex, *w, "water refractive index");
         // Every accepted setting is read: a phase function written in the file is used only where
-        // light is scattered rather than lost, i.e. by the path estimator (the dirsig estimator
-        // treats scattering as loss, Beer–Lambert with c = a + b).
-        if (spec.render.settings.estimator == ir::Estimator::Dirsig)
+        // light is scattered rather than lost: by the path estimator, or by the dirsig estimator's
+        // MediumPM solver (without it, dirsig treats scattering as loss, Beer–Lambert with c = a + b).
+        if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver.empty())
             for (const LayerOptics* l : all)
                 if (l->phaseGiven)
                     throw InputError(l->loc, "water.optics phase: not used: the dirsig estimator treats scattering "
-                                             "as loss (Beer–Lambert with c = a + b); use render.estimator: path for "
-                                             "in-water scattering, or remove 'phase'");
+                                             "as loss (Beer–Lambert with c = a + b) unless water.optics.solver is "
+                                             "medium-pm; use render.estimator: path, the medium-pm solver, or remove "
+                                             "'phase'");
     }
     if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
     if (spec.sky.radiance) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
@@ -576,7 +594,8 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
         const WaterOptics& o = spec.waterOptics;
         ir::Medium w;
         w.name = "water";
-        w.origin = o.loc;
+        w.origin = o.solver.empty() ? o.loc : o.solverLoc;
+        if (!o.solver.empty()) w.solver = parseName<ir::Medium::Solver>(o.solver);
         w.refractiveIndex = o.refractiveIndex;
         auto layerOf = [](const LayerOptics& l) {
             ir::Layer ly;

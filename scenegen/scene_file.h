@@ -95,7 +95,8 @@ struct WaterOptics {
     std::vector<double> layerTops;        // depth of each layer's top (first = 0)
     std::vector<LayerOptics> layers;
     std::string interfaceSolver = "fresnel";  // fresnel (specular) | cox-munk (rough, later)
-    SourceLoc loc;
+    std::string solver;                       // "" (attenuation only) | medium-pm (dirsig estimator)
+    SourceLoc loc, solverLoc;
 };
 
 struct RenderSection {

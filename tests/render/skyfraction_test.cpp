@@ -143,35 +143,3 @@ INSTANTIATE_TEST_SUITE_P(Solvers, SkyFraction, ::testing::Values(Mode::Classic, 
 }  // namespace
 }  // namespace littoral::render
 
-namespace littoral::render {
-namespace {
-
-// Until the surface photon map exists, a SurfacePM diffuse material is rendered by the Generic
-// solver, which estimates the same integral (dissertation Ch. 6: GRS and SRS converge). With the
-// same seed the two images must be bitwise identical, and the value must still follow Eq. 6.1:
-// beside a black half-wall of elevation 45 deg, F = 1 - pi sin^2(45)/(2 pi) = 0.75.
-TEST(SurfacePMStandIn, RendersAsGenericUntilPhotonMapsExist) {
-    auto build = [](M::Solver solver) {
-        ir::SceneIR s = uniformSkyScene();
-        s.render.hemisphereSamples = 1024;
-        s.render.maxBounces = 2;
-        s.materials.push_back(material("ground", M::Type::Lambertian, solver, 1.0));
-        s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
-        s.meshes.push_back(meshOf("ground", plane(-100, 100, -100, 100, 0), {"ground"}));
-        s.meshes.push_back(meshOf("wall", arcWall(0, 0, 2.0, 0, kPi, 2.0, 512), {"black"}));
-        s.sensors.push_back(ortho("o", {0, 0, 20}, {0, 0, -1}, {0, 1, 0}, 4, 4, 1e-4));
-        return s;
-    };
-    const ir::SceneIR pm = build(M::Solver::SurfacePM), gen = build(M::Solver::Generic);
-    const SensorImage a = renderSensor(Scene(pm, "."), pm.sensors[0], quiet());
-    const SensorImage b = renderSensor(Scene(gen, "."), gen.sensors[0], quiet());
-    EXPECT_EQ(a.film.pixels, b.film.pixels);
-    double mean = 0;
-    for (float v : a.film.pixels) mean += v * kPi / a.film.pixels.size();
-    // 16 pixels x 1024 cosine samples of a Bernoulli(0.75) visibility: SE = sqrt(0.1875 / 16384)
-    // = 0.0034; allow 4 SE.
-    EXPECT_NEAR(mean, 0.75, 4 * 0.0034);
-}
-
-}  // namespace
-}  // namespace littoral::render

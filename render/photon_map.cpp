@@ -1,0 +1,146 @@
+#include "render/photon_map.h"
+
+#include <bit>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace littoral::render {
+
+uint16_t floatToHalf(float f) {
+    uint32_t x;
+    std::memcpy(&x, &f, 4);
+    const uint32_t sign = (x >> 16) & 0x8000u;
+    const int32_t exp = static_cast<int32_t>((x >> 23) & 0xff) - 127 + 15;
+    uint32_t mant = x & 0x7fffffu;
+    if (((x >> 23) & 0xff) == 0xff) return static_cast<uint16_t>(sign | 0x7c00u | (mant ? 0x200u : 0));  // inf / nan
+    if (exp >= 31) return static_cast<uint16_t>(sign | 0x7c00u);                                       // overflow
+    if (exp <= 0) {
+        if (exp < -10) return static_cast<uint16_t>(sign);  // underflow to zero
+        mant |= 0x800000u;
+        const int shift = 14 - exp;
+        uint32_t h = mant >> shift;
+        const uint32_t rem = mant & ((1u << shift) - 1), half = 1u << (shift - 1);
+        if (rem > half || (rem == half && (h & 1u))) ++h;  // round to nearest even
+        return static_cast<uint16_t>(sign | h);
+    }
+    uint32_t h = (static_cast<uint32_t>(exp) << 10) | (mant >> 13);
+    const uint32_t rem = mant & 0x1fffu;
+    if (rem > 0x1000u || (rem == 0x1000u && (h & 1u))) ++h;  // may carry into the exponent: correct
+    return static_cast<uint16_t>(sign | h);
+}
+
+float halfToFloat(uint16_t h) {
+    const uint32_t sign = static_cast<uint32_t>(h & 0x8000u) << 16;
+    const uint32_t exp = (h >> 10) & 0x1fu, mant = h & 0x3ffu;
+    uint32_t x;
+    if (exp == 0) {
+        if (mant == 0) {
+            x = sign;
+        } else {  // subnormal: renormalise
+            int e = -1;
+            uint32_t m = mant;
+            do {
+                ++e;
+                m <<= 1;
+            } while (!(m & 0x400u));
+            x = sign | (static_cast<uint32_t>(127 - 15 - e) << 23) | ((m & 0x3ffu) << 13);
+        }
+    } else if (exp == 31) {
+        x = sign | 0x7f800000u | (mant << 13);
+    } else {
+        x = sign | ((exp + 127 - 15) << 23) | (mant << 13);
+    }
+    float f;
+    std::memcpy(&f, &x, 4);
+    return f;
+}
+
+namespace {
+double signNotZero(double v) { return v >= 0 ? 1.0 : -1.0; }
+uint32_t quantise(double v) {  // [-1, 1] -> 16 bits
+    return static_cast<uint32_t>(std::lround((std::clamp(v, -1.0, 1.0) * 0.5 + 0.5) * 65535.0));
+}
+double dequantise(uint32_t q) { return static_cast<double>(q) / 65535.0 * 2.0 - 1.0; }
+}  // namespace
+
+uint32_t encodeOctahedral(const Vec3& v) {
+    const double l1 = std::abs(v.x) + std::abs(v.y) + std::abs(v.z);
+    double px = v.x / l1, py = v.y / l1;
+    if (v.z < 0) {
+        const double ox = (1 - std::abs(py)) * signNotZero(px), oy = (1 - std::abs(px)) * signNotZero(py);
+        px = ox;
+        py = oy;
+    }
+    return quantise(px) | (quantise(py) << 16);
+}
+
+Vec3 decodeOctahedral(uint32_t e) {
+    const double px = dequantise(e & 0xffffu), py = dequantise(e >> 16);
+    Vec3 v{px, py, 1 - std::abs(px) - std::abs(py)};
+    if (v.z < 0) {
+        const double ox = (1 - std::abs(v.y)) * signNotZero(v.x), oy = (1 - std::abs(v.x)) * signNotZero(v.y);
+        v.x = ox;
+        v.y = oy;
+    }
+    return normalize(v);
+}
+
+void PhotonMap::add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power) {
+    x_.push_back(static_cast<float>(p.x));
+    y_.push_back(static_cast<float>(p.y));
+    z_.push_back(static_cast<float>(p.z));
+    dir_.push_back(encodeOctahedral(dir));
+    if (normals_) nrm_.push_back(encodeOctahedral(normal));
+    for (int b = 0; b < bands_; ++b) pow_.push_back(floatToHalf(static_cast<float>(power[b])));
+}
+
+void PhotonMap::append(const PhotonMap& o) {
+    LITTORAL_CHECK_EQ(o.bands_, bands_);
+    LITTORAL_CHECK_EQ(o.normals_, normals_);
+    x_.insert(x_.end(), o.x_.begin(), o.x_.end());
+    y_.insert(y_.end(), o.y_.begin(), o.y_.end());
+    z_.insert(z_.end(), o.z_.begin(), o.z_.end());
+    dir_.insert(dir_.end(), o.dir_.begin(), o.dir_.end());
+    nrm_.insert(nrm_.end(), o.nrm_.begin(), o.nrm_.end());
+    pow_.insert(pow_.end(), o.pow_.begin(), o.pow_.end());
+}
+
+void PhotonMap::build(double cellSize) {
+    LITTORAL_CHECK(cellSize > 0);
+    cell_ = cellSize;
+    const size_t n = x_.size();
+    // About one bucket per photon (a power of two, at least 1024).
+    uint64_t buckets = 1024;
+    while (buckets < n) buckets <<= 1;
+    mask_ = buckets - 1;
+    const double inv = 1.0 / cell_;
+    std::vector<uint32_t> bucket(n);
+    for (size_t i = 0; i < n; ++i)
+        bucket[i] = static_cast<uint32_t>(bucketOf(static_cast<int64_t>(std::floor(x_[i] * inv)),
+                                                   static_cast<int64_t>(std::floor(y_[i] * inv)),
+                                                   static_cast<int64_t>(std::floor(z_[i] * inv))));
+    bucketStart_.assign(buckets + 2, 0);
+    for (size_t i = 0; i < n; ++i) ++bucketStart_[bucket[i] + 2];
+    for (size_t b = 2; b < bucketStart_.size(); ++b) bucketStart_[b] += bucketStart_[b - 1];
+    // Stable counting sort: photon order within a bucket is their order of addition.
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[bucketStart_[bucket[i] + 1]++] = static_cast<uint32_t>(i);
+    auto permute = [&](auto& v, size_t stride) {
+        if (v.empty()) return;
+        std::remove_reference_t<decltype(v)> out(v.size());
+        for (size_t k = 0; k < n; ++k)
+            std::copy_n(v.begin() + order[k] * stride, stride, out.begin() + k * stride);
+        v.swap(out);
+    };
+    permute(x_, 1);
+    permute(y_, 1);
+    permute(z_, 1);
+    permute(dir_, 1);
+    permute(nrm_, 1);
+    permute(pow_, static_cast<size_t>(bands_));
+}
+
+size_t PhotonMap::memoryBytes() const { return size() * bytesPerPhoton() + bucketStart_.size() * sizeof(uint32_t); }
+
+}  // namespace littoral::render

@@ -1,0 +1,156 @@
+#pragma once
+// A photon map: compact photon records and a spatial hash grid for fixed-radius queries.
+//
+// Record layout (structure of arrays, bytes per photon for n bands of the group):
+//   position       3 x float32                         12
+//   direction      octahedral, 2 x 16-bit unit normals  4   (direction of travel)
+//   surface normal octahedral, 2 x 16-bit (surface maps) 4
+//   power          n x float16 (binary16)              2 n (relative to fluxScale[band])
+// = 16 + 2n bytes for a volume map and 20 + 2n for a surface map: 24 and 28 bytes for 4 bands.
+// Positions in float keep 10 um at 100 m from the origin; directions keep 1e-4 rad; powers, which
+// equal-flux tracing keeps near 1, keep 3 significant digits (rounding to nearest, so errors
+// average out over the hundreds of photons of a density estimate).
+//
+// The grid hashes cells of side `cellSize` (the search radius it was built for) into a table of
+// about as many buckets as photons; photons are stored sorted by bucket, so a query walks the
+// few buckets of the cells it overlaps (each bucket once) and tests actual distances. Building
+// sorts by bucket with a counting sort whose order is fixed (it does not depend on threads).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/bbox.h"
+#include "core/vec.h"
+#include "render/spectral.h"
+
+namespace littoral::render {
+
+// IEEE binary16 conversions (round to nearest even; overflow to infinity).
+uint16_t floatToHalf(float f);
+float halfToFloat(uint16_t h);
+// Octahedral encoding of a unit vector in 32 bits (Meyer et al. 2010): worst error ~1e-4 rad.
+uint32_t encodeOctahedral(const Vec3& v);
+Vec3 decodeOctahedral(uint32_t e);
+
+class PhotonMap {
+public:
+    PhotonMap() = default;
+    PhotonMap(int bands, bool withNormals) : bands_(bands), normals_(withNormals) {}
+
+    // Appends one photon (before build()). `power` holds bands() values, relative to fluxScale.
+    void add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power);
+    // Appends all photons of another map (same bands and layout), in order.
+    void append(const PhotonMap& other);
+    // Sorts the photons into a hash grid of cells of side `cellSize` (> 0); queries with a radius
+    // up to cellSize visit at most 27 cells.
+    void build(double cellSize);
+
+    size_t size() const { return x_.size(); }
+    int bands() const { return bands_; }
+    bool hasNormals() const { return normals_; }
+    double cellSize() const { return cell_; }
+    size_t bytesPerPhoton() const { return 16 + (normals_ ? 4 : 0) + 2 * static_cast<size_t>(bands_); }
+    static size_t bytesPerPhoton(int bands, bool normals) { return 16 + (normals ? 4 : 0) + 2 * static_cast<size_t>(bands); }
+    size_t memoryBytes() const;  // records plus the grid
+
+    Point3 position(size_t i) const { return {x_[i], y_[i], z_[i]}; }
+    Vec3 direction(size_t i) const { return decodeOctahedral(dir_[i]); }
+    Vec3 normal(size_t i) const { return decodeOctahedral(nrm_[i]); }
+    float power(size_t i, int band) const { return halfToFloat(pow_[i * bands_ + band]); }
+
+    // Flux of a photon of relative power 1 in each band, W um^-1 (set by the photon pass).
+    std::vector<double> fluxScale;
+
+    // Calls f(i) for every photon within distance r of p (r <= cellSize()).
+    template <class F> void forEachInSphere(const Point3& p, double r, F&& f) const;
+    // Calls f(i, t) for every photon whose perpendicular distance to the segment
+    // o + t d, t in [t0, t1) (d unit) is at most r, with t its projection onto the ray.
+    template <class F> void forEachNearSegment(const Point3& o, const Vec3& d, double t0, double t1, double r, F&& f) const;
+
+private:
+    uint64_t bucketOf(int64_t ix, int64_t iy, int64_t iz) const;
+    // Calls f(begin, end) once per distinct bucket of the cells in [lo, hi] for which keepCell(centre).
+    template <class Keep, class F> void forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& keepCell, F&& f) const;
+
+    int bands_ = 1;
+    bool normals_ = false;
+    std::vector<float> x_, y_, z_;
+    std::vector<uint32_t> dir_, nrm_;
+    std::vector<uint16_t> pow_;
+    double cell_ = 0;
+    uint64_t mask_ = 0;
+    std::vector<uint32_t> bucketStart_;  // size mask_ + 2
+};
+
+// ---------------------------------------------------------------------------------------------
+
+inline uint64_t PhotonMap::bucketOf(int64_t ix, int64_t iy, int64_t iz) const {
+    // Teschner et al. (2003) spatial hash.
+    const uint64_t h = (static_cast<uint64_t>(ix) * 73856093ull) ^ (static_cast<uint64_t>(iy) * 19349663ull) ^
+                       (static_cast<uint64_t>(iz) * 83492791ull);
+    return (h ^ (h >> 29)) & mask_;
+}
+
+template <class Keep, class F>
+void PhotonMap::forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& keepCell, F&& f) const {
+    if (x_.empty()) return;
+    const double inv = 1.0 / cell_;
+    const int64_t x0 = static_cast<int64_t>(std::floor(lo.x * inv)), x1 = static_cast<int64_t>(std::floor(hi.x * inv));
+    const int64_t y0 = static_cast<int64_t>(std::floor(lo.y * inv)), y1 = static_cast<int64_t>(std::floor(hi.y * inv));
+    const int64_t z0 = static_cast<int64_t>(std::floor(lo.z * inv)), z1 = static_cast<int64_t>(std::floor(hi.z * inv));
+    // Distinct buckets only (two cells may share one).
+    uint64_t local[64];
+    std::vector<uint64_t> many;
+    size_t n = 0;
+    const uint64_t cells = static_cast<uint64_t>(x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1);
+    uint64_t* buf = local;
+    if (cells > 64) {
+        many.resize(cells);
+        buf = many.data();
+    }
+    for (int64_t iz = z0; iz <= z1; ++iz)
+        for (int64_t iy = y0; iy <= y1; ++iy)
+            for (int64_t ix = x0; ix <= x1; ++ix)
+                if (keepCell(Point3{(ix + 0.5) * cell_, (iy + 0.5) * cell_, (iz + 0.5) * cell_}))
+                    buf[n++] = bucketOf(ix, iy, iz);
+    std::sort(buf, buf + n);
+    n = static_cast<size_t>(std::unique(buf, buf + n) - buf);
+    for (size_t k = 0; k < n; ++k) f(bucketStart_[buf[k]], bucketStart_[buf[k] + 1]);
+}
+
+template <class F> void PhotonMap::forEachInSphere(const Point3& p, double r, F&& f) const {
+    const double r2 = r * r;
+    forEachBucketInBox(p - Vec3{r, r, r}, p + Vec3{r, r, r}, [](const Point3&) { return true; }, [&](uint32_t b, uint32_t e) {
+        for (uint32_t i = b; i < e; ++i) {
+            const double dx = x_[i] - p.x, dy = y_[i] - p.y, dz = z_[i] - p.z;
+            if (dx * dx + dy * dy + dz * dz <= r2) f(static_cast<size_t>(i));
+        }
+    });
+}
+
+template <class F>
+void PhotonMap::forEachNearSegment(const Point3& o, const Vec3& d, double t0, double t1, double r, F&& f) const {
+    const Point3 a = o + d * t0, b = o + d * t1;
+    const Point3 lo{std::min(a.x, b.x) - r, std::min(a.y, b.y) - r, std::min(a.z, b.z) - r};
+    const Point3 hi{std::max(a.x, b.x) + r, std::max(a.y, b.y) + r, std::max(a.z, b.z) + r};
+    const double r2 = r * r;
+    // Only cells whose centre lies within r + half a cell diagonal of the segment can hold a photon
+    // within r of it.
+    const double reach = r + 0.8660254037844386 * cell_, reach2 = reach * reach;
+    auto cellNear = [&](const Point3& c) {
+        const Vec3 v = c - o;
+        const double t = std::clamp(dot(v, d), t0, t1);
+        return lengthSquared(v - d * t) <= reach2;
+    };
+    forEachBucketInBox(lo, hi, cellNear, [&](uint32_t bb, uint32_t e) {
+        for (uint32_t i = bb; i < e; ++i) {
+            const Vec3 v{x_[i] - o.x, y_[i] - o.y, z_[i] - o.z};
+            const double t = dot(v, d);
+            if (t < t0 || t >= t1) continue;
+            if (lengthSquared(v) - t * t <= r2) f(static_cast<size_t>(i), t);
+        }
+    });
+}
+
+}  // namespace littoral::render

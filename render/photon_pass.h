@@ -1,0 +1,70 @@
+#pragma once
+// The photon pass (dissertation Ch. 3, 6, 9; seed-ch08-09.md §2.1): light paths traced from the
+// sun and the sky into the scene, their scattering events in water stored in the volume map and
+// their hits on diffuse surfaces in the surface map.
+//
+//  * Emission: photons start on a horizontal rectangle over the scene's domain (just above every
+//    surface), from the sun (direction uniform over the disc) or the sky (cosine-weighted over the
+//    upper hemisphere), the source chosen in proportion to its band-summed flux: sun
+//    E_sun cos(theta_s) A, sky pi L_sky A (A the rectangle's area). Each photon starts with the
+//    relative power Phi_source,b / (P(source) Phi_mean), about 1. The rectangle stands for one
+//    period of an infinite plane: a photon whose first landing point falls outside the domain is
+//    moved by whole periods to land inside, so grazing light reaches the domain's edges too.
+//  * Transport: BxDFs through their sample() in importance mode (the smooth Fresnel interface:
+//    reflection or refraction by Fresnel probability, no n^2 scaling), media by free-flight
+//    sampling and phase sampling, diffuse surfaces by cosine sampling. Absorption is Russian
+//    roulette that keeps the power per band near its start (survival with the largest band's
+//    albedo): every stored photon carries about the same flux, as in DIRSIG (equal-flux photons
+//    give the smallest variance). Periodic walls wrap photons like rays.
+//  * Storage: scattering events in a medium whose solver is MediumPM go into the volume map
+//    (position, direction of travel before the event, power); hits on diffuse materials whose
+//    solver is SurfacePM go into the surface map (position, direction of travel, surface normal on
+//    the side hit, power). With `effective_scattering` (DIRSIG's effective scattering
+//    coefficient, Ch. 6.4.7 / 9) events that deflect the photon by less than the cone of 0.01 sr
+//    count as unscattered: not stored, direction kept.
+//  * Flux per photon (DIRSIG's rule): each map closes when it holds its target count; its flux
+//    per photon is the total source flux over the number of photons emitted until then.
+//  * Determinism: photon k draws all its numbers from RandomStream(seed, pass, k); photons are
+//    traced in chunks of fixed size whose results are appended in chunk order, and maps close at
+//    chunk boundaries, so the maps are identical for any thread count.
+#include <cstdint>
+#include <vector>
+
+#include "render/medium.h"
+#include "render/photon_map.h"
+#include "render/scene.h"
+
+namespace littoral::render {
+
+struct PhotonPassSettings {
+    uint64_t surfaceTarget = 0;     // photons to store in the surface map (0: no surface map)
+    uint64_t volumeTarget = 0;      // photons to store in the volume map (0: no volume map)
+    int maxBounces = 200;           // scattering/diffuse events per photon path
+    bool effectiveScattering = false;
+    uint64_t seed = 1, pass = 0;
+    uint64_t maxEmitted = 0;        // 0: 1000 x the larger target, at least 10^7
+    double cellSize = 0.4;          // grid cell of the built maps (the search radius)
+    int threads = 0;
+    bool progress = true;
+    std::vector<bool> surfaceMaterial;  // per material: stores surface photons (SurfacePM)
+    std::vector<bool> volumeMedium;     // per medium: stores volume photons (MediumPM)
+};
+
+struct PhotonMaps {
+    PhotonMap surface, volume;
+    uint64_t emitted = 0;                            // photons emitted in all
+    uint64_t emittedSurface = 0, emittedVolume = 0;  // emitted when each map closed
+    double seconds = 0;
+};
+
+// Bytes the pass's maps will need for the targets (records and grids), for the memory check.
+double photonMapBytes(const PhotonPassSettings& s, int bands);
+
+// Traces the photons of one band group. Warns if the emission cap is reached before a map is
+// full (it then holds what was stored).
+PhotonMaps tracePhotons(const Scene& scene, BandGroup group, const PhotonPassSettings& settings);
+
+// The cone half-angle (cosine) of the effective scattering coefficient: 0.01 sr.
+inline constexpr double kEffectiveConeSr = 0.01;
+
+}  // namespace littoral::render
