@@ -40,9 +40,12 @@
 //                        - (flux scattered by a facet into the wrong hemisphere, which a
 //                           single-scattering model cannot represent).
 // With G = G1(l) the first term is exactly 1 (Smith's identity in cox_munk.h), so SmithLight
-// conserves the flux up to that wrong-hemisphere loss (tiny except at grazing incidence on rough
-// seas). None gains energy (the first term exceeds 1, increasingly toward grazing); SmithSeparable
-// loses some. The tests assert each against an independent quadrature over the slopes.
+// conserves the flux up to that wrong-hemisphere loss. Measured by quadrature (tests): below 2e-4
+// up to 30 degrees incidence from the air and 2e-3 from the water, for winds up to 14 m/s; 0.3 %
+// (6 m/s) to 1.2 % (14 m/s) at 60 degrees from the air; 1 to 6 % at grazing incidence and beyond
+// the critical angle. None gains energy (the first term exceeds 1: R + T = 1.42, 2.05 and 2.80 at
+// 88 degrees from the air for 2, 6 and 14 m/s); SmithSeparable loses some (R + T = 0.947 to
+// 0.968 at 88 degrees). The tests assert each against an independent quadrature over the slopes.
 //
 // Sampling: a microfacet normal from the Gaussian slope density (CoxMunkDistribution::
 // sampleNormal, pdf D_gauss(h) h.z), then reflection with probability F and refraction with 1 - F

@@ -135,7 +135,7 @@ TEST(RoughDielectric, HeldByTheBxDFVariant) {
 // sample() draws directions distributed as pdf() says, on both lobes: chi-square through the
 // shared harness. Each case is binned twice, with theta measured from the mirror direction and
 // from the flat-surface refracted direction (when there is one), geometric theta bins inside the
-// lobe (scale: the larger RMS slope) and 12 azimuth bins; samples that fail (facets seen from
+// lobe (scale: the larger RMS slope) and 10 azimuth bins; samples that fail (facets seen from
 // behind, light sent to the wrong side) are the harness's remainder cell, expected N (1 - Int pdf).
 // Winds 2 (dissertation), 8 and 14 m/s (clean, the latter with Gram-Charlier terms: sampling and
 // pdf are the Gaussian part's); incidence 0, 45 and 80 deg from the air, and 20, 45 and 70 deg
@@ -163,14 +163,17 @@ TEST(RoughDielectric, SamplingMatchesPdf) {
                 if (refract(wo, Vec3{0, 0, wo.z > 0 ? 1.0 : -1.0}, eta, &wt)) centres.push_back(wt);
                 for (const Vec3& centre : centres) {
                     // Transmitted lobes are narrower than reflected ones by up to ~8 (1 - 1/n vs 2).
-                    auto edges = chi2::forwardPeakedThetaEdges(0.01 * s, 16, std::min(1.0, 6.0 * s), 8);
+                    auto edges = chi2::forwardPeakedThetaEdges(0.01 * s, 14, std::min(1.0, 6.0 * s), 8);
                     chi2::Options o;
                     o.samples = 200000;
                     o.seed = 17 + run;
-                    o.relTol = 1e-7;  // expected counts to 1e-7: far below the Poisson noise 1/sqrt(E) >= 2e-3
+                    // Expected counts to 1e-4 relative: an error dE = 1e-4 E shifts a cell's term by
+                    // at most (dE)^2 / E + 2 |O - E| dE / E ~ 1e-8 E + 2e-4 sqrt(E) < 0.1 for the
+                    // largest cells here (E < 3e4), nothing beside the statistic's dof of 100-200.
+                    o.relTol = 1e-4;
                     const Frame frame = Frame::fromNormal(centre);
                     const auto r = chi2::testSphere(
-                        edges, 12, frame,
+                        edges, 10, frame,
                         [&](RandomStream& rs) -> std::optional<Vec3> {
                             const double uc = rs.uniform(), u1 = rs.uniform(), u2 = rs.uniform();
                             const auto smp = b.sample(wo, uc, {u1, u2}, TransportMode::Radiance);
@@ -295,16 +298,18 @@ EnergyQuadrature energyQuadrature(const RoughDielectricBxDF& b, const Vec3& l) {
             }
         }
     };
-    // Outer integral over eta: composite Gauss-Legendre on 0.25-wide panels. The inner integral is
+    // Outer integral over eta: composite Gauss-Legendre on 0.5-wide panels. The inner integral is
     // continuous in eta, with kinks where the regime pieces are born or vanish.
     double sum[3] = {0, 0, 0};
-    for (int p = 0; p < 56; ++p) gaussLegendre16(inner, -L + 0.25 * p, -L + 0.25 * (p + 1), sum);
+    for (int p = 0; p < 28; ++p) gaussLegendre16(inner, -L + 0.5 * p, -L + 0.5 * (p + 1), sum);
     EnergyQuadrature e;
     e.reflected = sum[0];
     e.transmitted = sum[1];
     e.lost = sum[2];
     return e;
 }
+
+constexpr long long kEnergySamples = 100000;
 
 struct EnergyMC {
     double mean = 0, se = 0;            // R + T and its standard error
@@ -343,7 +348,7 @@ EnergyMC energyMC(const RoughDielectricBxDF& b, const Vec3& wo, long long n, uin
 
 // White furnace. For each wind, incidence (from the air and from the water) and shadowing term,
 // the Monte Carlo albedo Int (f_r + f_t) |cos(theta_i)| d omega_i (the BxDF's own sampler and pdf,
-// Importance mode, 2e5 samples) must equal the quadrature over the slopes (EnergyQuadrature). The
+// Importance mode, 1e5 samples) must equal the quadrature over the slopes (EnergyQuadrature). The
 // difference is a normal deviate of standard error SE (from the sample variance), rejected beyond
 // z SE + 3/N + 1e-6: z at the Sidak level of the whole set (1 % family); 3/N (the rule of three)
 // for events rarer than the sample shows, e.g. at normal incidence, where the smith-light weights
@@ -380,13 +385,13 @@ TEST(RoughDielectric, WhiteFurnace) {
                     const double th = deg2rad(thDeg);
                     const Vec3 wo = side == 0 ? dir(th, 0.5) : dir(kPi - th, 0.5);
                     const EnergyQuadrature q = energyQuadrature(b, wo);
-                    const EnergyMC mc = energyMC(b, wo, 200000, 101);
+                    const EnergyMC mc = energyMC(b, wo, kEnergySamples, 101);
                     const std::string what = label(c.U, c.sea, thDeg, side == 0) + " " + std::string(nameOf(term.s));
                     std::printf("[ info ] energy %-44s MC R %.5f T %.5f R+T %.5f +- %.5f | quadrature R+T %.6f (R %.5f "
                                 "T %.5f) lost %.2e\n",
                                 what.c_str(), mc.reflected, mc.transmitted, mc.mean, mc.se, q.total(), q.reflected,
                                 q.transmitted, q.lost);
-                    EXPECT_LE(std::abs(mc.mean - q.total()), z * mc.se + 3.0 / 200000 + 1e-6) << what;
+                    EXPECT_LE(std::abs(mc.mean - q.total()), z * mc.se + 3.0 / kEnergySamples + 1e-6) << what;
                     switch (term.s) {
                     case MicrofacetShadowing::SmithLight: EXPECT_NEAR(q.total() + q.lost, 1.0, 1e-6) << what; break;
                     case MicrofacetShadowing::None:
@@ -401,6 +406,32 @@ TEST(RoughDielectric, WhiteFurnace) {
                         break;
                     }
                 }
+        }
+}
+
+// With Gram-Charlier terms (10 m/s, clean sea, smith-light) the sampler still draws the Gaussian
+// part and the weights carry D / D_gauss: the Monte Carlo albedo must still equal the quadrature
+// over the (clipped Gram-Charlier) slopes, same rule as the white furnace (6 cases, 1 % family).
+// Smith's identity is no longer exact, because the masking keeps the Gaussian Lambda: kept + lost
+// is reported, not asserted.
+TEST(RoughDielectric, GramCharlierWeightsAreUnbiased) {
+    const RoughDielectricBxDF b = rough(10.0, CoxMunkSea::Clean, 0.3, MicrofacetShadowing::SmithLight, true);
+    const double alpha = chi2::sidakLevel(0.01, 6);
+    double zlo = 0, zhi = 10;
+    for (int i = 0; i < 100; ++i) {
+        const double mid = 0.5 * (zlo + zhi);
+        (chi2::chiSquareSurvival(mid * mid, 1) > alpha ? zlo : zhi) = mid;
+    }
+    for (int side = 0; side < 2; ++side)
+        for (double thDeg : {0.0, 30.0, 60.0}) {
+            const double th = deg2rad(thDeg);
+            const Vec3 wo = side == 0 ? dir(th, 1.0) : dir(kPi - th, 1.0);
+            const EnergyQuadrature q = energyQuadrature(b, wo);
+            const EnergyMC mc = energyMC(b, wo, kEnergySamples, 303);
+            const std::string what = label(10.0, CoxMunkSea::Clean, thDeg, side == 0) + " gram-charlier";
+            std::printf("[ info ] energy %-44s MC R+T %.5f +- %.5f | quadrature R+T %.6f, kept + lost %.6f\n",
+                        what.c_str(), mc.mean, mc.se, q.total(), q.total() + q.lost);
+            EXPECT_LE(std::abs(mc.mean - q.total()), zhi * mc.se + 3.0 / kEnergySamples + 1e-6) << what;
         }
 }
 
