@@ -348,8 +348,9 @@ EnergyMC energyMC(const RoughDielectricBxDF& b, const Vec3& wo, long long n, uin
 
 // White furnace. For each wind, incidence (from the air and from the water) and shadowing term,
 // the Monte Carlo albedo Int (f_r + f_t) |cos(theta_i)| d omega_i (the BxDF's own sampler and pdf,
-// Importance mode, 1e5 samples) must equal the quadrature over the slopes (EnergyQuadrature). The
-// difference is a normal deviate of standard error SE (from the sample variance), rejected beyond
+// Importance mode, 1e5 samples) must equal the quadrature over the slopes (EnergyQuadrature), and
+// so must its reflected and transmitted parts. Each difference is a normal deviate of standard
+// error SE (from the sample variance), rejected beyond
 // z SE + 3/N + 1e-6: z at the Sidak level of the whole set (1 % family); 3/N (the rule of three)
 // for events rarer than the sample shows, e.g. at normal incidence, where the smith-light weights
 // are exactly 1 unless light is lost (SE = 0 when no sample saw a loss of 1e-6); 1e-6 for the
@@ -368,7 +369,7 @@ TEST(RoughDielectric, WhiteFurnace) {
         {MicrofacetShadowing::SmithLight, {0.0, 30.0, 60.0, 80.0, 88.0}, {0.0, 30.0, 45.0, 60.0, 85.0}},
         {MicrofacetShadowing::None, {0.0, 60.0, 88.0}, {30.0, 60.0, 85.0}},
         {MicrofacetShadowing::SmithSeparable, {0.0, 60.0, 88.0}, {30.0, 60.0, 85.0}}};
-    const int tests = 3 * (10 + 6 + 6);
+    const int tests = 3 * 3 * (10 + 6 + 6);  // R, T and R + T of each case
     // z with P(|N(0,1)| > z) = Sidak level: bisection on the chi-square(1) survival function.
     const double alpha = chi2::sidakLevel(0.01, tests);
     double zlo = 0, zhi = 10;
@@ -391,7 +392,10 @@ TEST(RoughDielectric, WhiteFurnace) {
                                 "T %.5f) lost %.2e\n",
                                 what.c_str(), mc.reflected, mc.transmitted, mc.mean, mc.se, q.total(), q.reflected,
                                 q.transmitted, q.lost);
-                    EXPECT_LE(std::abs(mc.mean - q.total()), z * mc.se + 3.0 / kEnergySamples + 1e-6) << what;
+                    const double slack = 3.0 / kEnergySamples + 1e-6;
+                    EXPECT_LE(std::abs(mc.mean - q.total()), z * mc.se + slack) << what;
+                    EXPECT_LE(std::abs(mc.reflected - q.reflected), z * mc.seReflected + slack) << what << " (R)";
+                    EXPECT_LE(std::abs(mc.transmitted - q.transmitted), z * mc.seTransmitted + slack) << what << " (T)";
                     switch (term.s) {
                     case MicrofacetShadowing::SmithLight: EXPECT_NEAR(q.total() + q.lost, 1.0, 1e-6) << what; break;
                     case MicrofacetShadowing::None:
