@@ -1,6 +1,7 @@
 // `littoral waves`: generate a wind-roughened (or sinusoidal, or flat) sea surface, write the
 // facetized mesh (PLY or OBJ) and its predicted and measured statistics (stats.json).
 // See docs/waves.md.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,8 +12,10 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/names.h"
 #include "core/progress.h"
 #include "core/suggest.h"
 #include "core/units.h"
@@ -28,13 +31,15 @@ namespace surf = littoral::surfaces;
 
 struct WavesOptions {
     std::optional<double> wind;
-    double directionDeg = 0.0;
+    std::optional<double> windFromDeg, wavesFromDeg;
+    std::optional<std::string> removedDirection;  // --direction: refused with an explanation
+    std::optional<std::string> sea;
     std::string model = "beaufort";
     double size = 300.0;
     std::optional<double> sizeY;
     double spacing = 0.25;
     uint64_t seed = 500;
-    long long triangles = 30000;
+    std::optional<long long> triangles;  // default 30000; cox-munk: 0 (the full grid)
     std::string out;
     std::string stats;
     double fetch = 0.0, gamma = 3.3, amplitude = 0.5, wavelength = 2.0, phase = 0.0, time = 0.0, depth = 0.0;
@@ -67,15 +72,45 @@ surf::WaveParams toParams(const WavesOptions& o) {
         throw InputError(fmt::format("--wind: required for model {} (wind speed in m/s, > 0 and <= {})", o.model,
                                      surf::WaveLimits::kMaxWind));
     p.windSpeed = o.wind.value_or(0.0);
-    p.windDirection = littoral::deg2rad(o.directionDeg);
+    if (o.removedDirection)
+        throw InputError(fmt::format(
+            "--direction: this option was removed: it gave the direction the wind blew TOWARD, in degrees "
+            "counter-clockwise from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
+            "from north, as in scene files (--direction D is {} (270 - D) mod 360)",
+            p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from",
+            p.model == surf::WaveModel::Sinusoid ? "waves come" : "wind comes",
+            p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from"));
+    if (p.model == surf::WaveModel::Sinusoid && o.windFromDeg)
+        throw InputError("--wind-from: the sinusoid has no wind; give the direction its waves come from with --waves-from");
+    if (p.model != surf::WaveModel::Sinusoid && o.wavesFromDeg)
+        throw InputError(fmt::format("--waves-from: applies to model sinusoid only; model {} takes --wind-from", o.model));
+    const double fromDeg = (p.model == surf::WaveModel::Sinusoid ? o.wavesFromDeg : o.windFromDeg).value_or(270.0);
+    if (!std::isfinite(fromDeg) || fromDeg < 0.0 || fromDeg > 360.0)
+        throw InputError(fmt::format("{}: {} is out of range; allowed 0 to 360 degrees (compass, clockwise from north)",
+                                     p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from", fromDeg));
+    p.windDirection = surf::directionFromCompass(fromDeg);
+    if (o.sea) {
+        if (p.model != surf::WaveModel::CoxMunk)
+            throw InputError(fmt::format("--sea: applies to model cox-munk only (model {} has its own slopes)", o.model));
+        const auto sea = littoral::parseName<littoral::CoxMunkSea>(*o.sea);
+        if (!sea) {
+            const auto names = littoral::allNames<littoral::CoxMunkSea>();
+            const std::string close = littoral::closestMatch(*o.sea, names);
+            throw InputError(fmt::format("--sea: unknown Cox-Munk surface '{}'; allowed: {}{}", *o.sea,
+                                         littoral::joinList(names),
+                                         close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
+        }
+        p.sea = *sea;
+    }
     p.sizeX = o.size;
     p.sizeY = o.sizeY.value_or(o.size);
     p.spacing = o.spacing;
     p.seed = o.seed;
-    if (o.triangles < 0)
+    const long long triangles = o.triangles.value_or(p.model == surf::WaveModel::CoxMunk ? 0 : 30000);
+    if (triangles < 0)
         throw InputError(fmt::format("--triangles: {} is negative; give a target >= {} or 0 for the full grid",
-                                     o.triangles, surf::kMinTriangles));
-    p.triangles = static_cast<size_t>(o.triangles);
+                                     triangles, surf::kMinTriangles));
+    p.triangles = static_cast<size_t>(triangles);
     p.fetch = o.fetch;
     p.gamma = o.gamma;
     p.amplitude = o.amplitude;
@@ -115,19 +150,25 @@ void runWaves(const WavesOptions& o) {
 littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("waves", "Generate a wind-roughened sea surface mesh and its statistics");
     auto o = std::make_shared<WavesOptions>();
-    cmd->add_option("--wind", o->wind, "Wind speed, m/s, at the model's reference height (beaufort 12.5 m, "
-                                       "pierson-moskowitz 19.5 m, jonswap/elfouhaily 10 m)");
-    cmd->add_option("--direction", o->directionDeg,
-                    "Direction the wind blows toward (sinusoid: the wave direction), degrees counter-clockwise from +x")
+    cmd->add_option("--wind", o->wind, "Wind speed, m/s, at the model's reference height (beaufort and cox-munk "
+                                       "12.5 m, pierson-moskowitz 19.5 m, jonswap/elfouhaily 10 m)");
+    cmd->add_option("--wind-from", o->windFromDeg,
+                    "Compass direction the wind comes from, degrees clockwise from north (default 270: from the west)");
+    cmd->add_option("--waves-from", o->wavesFromDeg,
+                    "Sinusoid: compass direction the waves come from, degrees clockwise from north (default 270)");
+    // The old option, hidden, so that using it explains the change instead of "unknown option".
+    cmd->add_option("--direction", o->removedDirection, "Removed: use --wind-from / --waves-from")->group("");
+    cmd->add_option("--model", o->model,
+                    "beaufort | pierson-moskowitz | jonswap | elfouhaily | cox-munk | sinusoid | flat")
         ->capture_default_str();
-    cmd->add_option("--model", o->model, "beaufort | pierson-moskowitz | jonswap | elfouhaily | sinusoid | flat")
-        ->capture_default_str();
+    cmd->add_option("--sea", o->sea, "cox-munk: which Cox-Munk fit the slopes follow: clean (default) | slick | "
+                                     "dissertation");
     cmd->add_option("--size", o->size, "Side of the square surface, m (centred on the origin)")->capture_default_str();
     cmd->add_option("--size-y", o->sizeY, "Extent along y, m, if different from --size");
     cmd->add_option("--spacing", o->spacing, "Grid spacing, m")->capture_default_str();
     cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
-    cmd->add_option("--triangles", o->triangles, "Target triangle count after decimation (0 = full grid)")
-        ->capture_default_str();
+    cmd->add_option("--triangles", o->triangles,
+                    "Target triangle count after decimation (0 = full grid); default 30000, cox-munk 0");
     cmd->add_option("--out", o->out, "Mesh output (.ply or .obj)");
     cmd->add_option("--stats", o->stats, "Statistics output (JSON)");
     cmd->add_option("--fetch", o->fetch, "Fetch, m, for jonswap and elfouhaily (0 = fully developed)")->capture_default_str();

@@ -2,9 +2,11 @@
 // Surface scattering: Fresnel optics and the BxDF interface every estimator uses.
 //
 // One interface (BxDF below): f, pdf, sample(wo, uc, u2, mode) and flags. The implementations are
-// plain structs held in a std::variant (LambertianBxDF, DielectricBxDF; the rough Cox–Munk
-// interface plugs in as one more alternative), so the per-sample hot path has no virtual calls.
-// Transport code asks a BxDF for its flags (delta? transmissive?), never for the material type.
+// plain structs held in a std::variant (LambertianBxDF, DielectricBxDF, and the rough Cox–Munk
+// interface RoughDielectricBxDF of render/rough_dielectric.h), so the per-sample hot path has no
+// virtual calls. Transport code asks a BxDF for its flags (delta? transmissive? glossy?), never
+// for the material type. The shared types (TransportMode, flags, BSDFSample, fresnelDielectric)
+// are in render/bxdf_types.h.
 //
 // BSDF convention (pbrt-v4): directions live in a local shading frame whose +z is the surface
 // normal on the *outside* of the surface; wo (toward the viewer or the previous vertex) and wi
@@ -20,35 +22,10 @@
 #include <variant>
 
 #include "core/vec.h"
+#include "render/bxdf_types.h"
+#include "render/rough_dielectric.h"
 
 namespace littoral::render {
-
-enum class TransportMode { Radiance, Importance };
-
-enum BxDFFlags : uint8_t {
-    kReflection = 1,
-    kTransmission = 2,
-    kDiffuse = 4,
-    kSpecular = 8,
-};
-
-struct BSDFSample {
-    double f = 0;      // sr^-1 (per band group: the same for all bands of a group)
-    Vec3 wi;
-    double pdf = 0;    // sr^-1, or the discrete probability of a specular lobe
-    uint8_t flags = 0;
-    double etap = 1;   // n_t / n_o for transmission (relative index across the boundary), else 1
-    bool isSpecular() const { return flags & kSpecular; }
-    bool isTransmission() const { return flags & kTransmission; }
-};
-
-// Unpolarised Fresnel reflectance for light in a medium of index n1 meeting a medium of index n2
-// at incidence cosine cosI in (0, 1]. Eq. 4.2 written with the s and p amplitude coefficients:
-// r_f = (r_s^2 + r_p^2) / 2, which equals (1/2)[sin^2(ti - tr)/sin^2(ti + tr) +
-// tan^2(ti - tr)/tan^2(ti + tr)] with Snell's law (Eq. 4.1) n1 sin ti = n2 sin tr, and stays
-// finite at normal incidence (Eq. 4.3). Returns 1 beyond the critical angle (total internal
-// reflection). T_f = 1 - r_f: the interface absorbs nothing.
-double fresnelDielectric(double cosI, double n1, double n2);
 
 // Lambertian reflection with reflectance r (one band): f = r / pi, cosine-weighted sampling on the
 // side of wo (two-sided).
@@ -81,9 +58,11 @@ struct DielectricBxDF {
 // The BxDF interface: a value holding one implementation. Directions are in the local frame of
 // the surface (+z = outward normal). `isDelta()` BxDFs (smooth interfaces) have f = pdf = 0 and
 // only sample(); `isSpecularPair()` ones can also hand both lobes at once for deterministic splits.
+// `isGlossy()` ones (the rough interface) have real f and pdf on both sides of the surface and
+// suit next-event estimation combined with BSDF sampling.
 class BxDF {
 public:
-    using Variant = std::variant<LambertianBxDF, DielectricBxDF>;
+    using Variant = std::variant<LambertianBxDF, DielectricBxDF, RoughDielectricBxDF>;
     template <class T>
         requires std::is_constructible_v<Variant, T>
     BxDF(T b) : v_(std::move(b)) {}  // NOLINT: implicit from any implementation
@@ -93,6 +72,7 @@ public:
     bool isDelta() const { return flags() & kSpecular; }
     bool isTransmissive() const { return flags() & kTransmission; }
     bool isDiffuse() const { return flags() & kDiffuse; }
+    bool isGlossy() const { return flags() & kGlossy; }
     double f(const Vec3& wo, const Vec3& wi, TransportMode mode = TransportMode::Radiance) const {
         return std::visit([&](const auto& b) { return b.f(wo, wi, mode); }, v_);
     }

@@ -21,9 +21,14 @@ struct ModelKey {
     std::vector<WaveModel> models;
 };
 const std::vector<ModelKey>& modelKeys() {
+    static const std::vector<WaveModel> wind{WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap,
+                                             WaveModel::Elfouhaily, WaveModel::CoxMunk};
     static const std::vector<ModelKey> keys{
-        {"wind_speed", {WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily}},
-        {"seed", {WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily}},
+        {"wind_speed", wind},
+        {"wind_from_deg", wind},
+        {"waves_from_deg", {WaveModel::Sinusoid}},
+        {"seed", wind},
+        {"sea", {WaveModel::CoxMunk}},
         {"fetch", {WaveModel::Jonswap, WaveModel::Elfouhaily}},
         {"gamma", {WaveModel::Jonswap}},
         {"amplitude", {WaveModel::Sinusoid}},
@@ -51,8 +56,27 @@ std::pair<double, double> pairOf(const YamlNode& n, double lo, double hi, const 
 
 surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     n.expectMap();
-    n.expectKeys({"model", "wind_speed", "wind_direction_deg", "size", "centre", "spacing", "seed", "triangles",
-                  "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth"});
+    // The key of the old convention is refused with the conversion, never reinterpreted.
+    if (auto old = n.optional("wind_direction_deg")) {
+        const bool sinusoid = n.has("model") && n["model"].isScalar() && n["model"].asString() == "sinusoid";
+        const char* key = sinusoid ? "waves_from_deg" : "wind_from_deg";
+        std::string example;
+        if (old->isScalar()) {
+            try {
+                example = fmt::format("; your {} would be {}: {:g}", old->asDouble(), key,
+                                      surfaces::compassFromDirection(deg2rad(old->asDouble())));
+            } catch (const InputError&) {
+                // not a number: the message without the conversion
+            }
+        }
+        old->fail(fmt::format("this key was removed: it gave the direction the {} TOWARD, in degrees counter-clockwise "
+                              "from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
+                              "from north, like every other azimuth in a scene file{}",
+                              sinusoid ? "waves travel" : "wind blows", key, sinusoid ? "waves come" : "wind comes",
+                              example));
+    }
+    n.expectKeys({"model", "wind_speed", "wind_from_deg", "waves_from_deg", "sea", "size", "centre", "spacing", "seed",
+                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth"});
     surfaces::WaveParams p;
     p.sceneKeys = true;
     p.where = n.loc();
@@ -67,13 +91,19 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
 
     if (surfaces::isWindDriven(p.model)) {
         const YamlNode w = n["wind_speed"];  // required: the model is driven by it
-        p.windSpeed = w.asDouble(0.0, WaveLimits::kMaxWind, "m/s");
-        if (p.windSpeed <= 0) w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s",
+        // cox-munk has its own, narrower range: validateWaveParams reports it at this key.
+        p.windSpeed = p.model == WaveModel::CoxMunk ? w.asDouble() : w.asDouble(0.0, WaveLimits::kMaxWind, "m/s");
+        if (p.windSpeed <= 0 && p.model != WaveModel::CoxMunk) w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s",
                                                  p.windSpeed, modelName, WaveLimits::kMaxWind));
     } else {
         p.windSpeed = 0.0;
     }
-    p.windDirection = deg2rad(n.getDouble("wind_direction_deg", 0.0, -360.0, 360.0, "degrees"));
+    // Compass direction the wind (sinusoid: the waves) comes from; default 270 (from the west, i.e.
+    // travelling toward +x, east).
+    const char* dirKey = p.model == WaveModel::Sinusoid ? "waves_from_deg" : "wind_from_deg";
+    p.windDirection = surfaces::directionFromCompass(n.getDouble(dirKey, 270.0, 0.0, 360.0, "degrees"));
+    if (p.model == WaveModel::CoxMunk)
+        p.sea = *parseName<CoxMunkSea>(n.getEnum("sea", "clean", allNames<CoxMunkSea>()));
     if (auto s = n.optional("size")) {
         if (s->isSequence()) {
             const auto [sx, sy] = pairOf(*s, WaveLimits::kMinSize, WaveLimits::kMaxSize, "m");
@@ -100,6 +130,8 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     p.depth = n.getDouble("depth", p.depth, 0.0, WaveLimits::kMaxDepth, "m");
     // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
     // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
+    // cox-munk keeps the full grid by default: decimation smooths the facet slopes it is made for.
+    if (!n.has("triangles") && p.model == WaveModel::CoxMunk) p.triangles = 0;
     if (!n.has("triangles")) {
         const surfaces::GridSize g = surfaces::gridSizeFor(p);
         if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;

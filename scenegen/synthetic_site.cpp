@@ -246,8 +246,8 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     y += "probes:\n  - {name: ed-1m, position: [20, 0, -1], quantities: [Ed, Eu]}\n";
     y += "water:\n  level_m: 0\n";
     // Table 10.2: Beaufort/RMS surface at 6 m/s, 0.25 m grid, decimated to 30,000 triangles; the
-    // surface spans the domain exactly.
-    y += fmt::format("  surface:\n    model: beaufort\n    wind_speed: 6.0\n    wind_direction_deg: 0\n"
+    // surface spans the domain exactly. The wind comes from the west (blows toward +x, offshore).
+    y += fmt::format("  surface:\n    model: beaufort\n    wind_speed: 6.0\n    wind_from_deg: 270\n"
                      "    size: [{}, {}]\n    centre: [{}, {}]\n    spacing: 0.25\n    triangles: {}\n    seed: {}\n",
                      kX1 - kX0, kY1 - kY0, 0.5 * (kX0 + kX1), 0.5 * (kY0 + kY1), opt.surfaceTriangles, seed);
     // Table 10.3 "low" water (HG g = 0.88) with its in-scattered light from the volume photon map

@@ -63,6 +63,24 @@ ModePower gaussianModePower(const GridSpec& g, double h, double L) {
     return p;
 }
 
+ModePower anisotropicGaussianModePower(const GridSpec& g, double h, double La, double Lc, double dir) {
+    ModePower p;
+    p.grid = g;
+    const int hx = p.halfX();
+    p.power.assign(static_cast<size_t>(hx) * g.ny, 0.0);
+    const double dk2 = (2.0 * kPi / g.sizeX) * (2.0 * kPi / g.sizeY);
+    const double c = std::cos(dir), s = std::sin(dir);
+    for (int n = 0; n < g.ny; ++n)
+        for (int m = 0; m < hx; ++m) {
+            if (m == 0 && n == 0) continue;  // mean water level exactly 0
+            const double ka = p.kx(m) * c + p.ky(n) * s, kc = -p.kx(m) * s + p.ky(n) * c;
+            // 2-D Fourier transform of h^2 exp(-(ra^2/La^2 + rc^2/Lc^2)), times the mode's dk^2.
+            p.power[static_cast<size_t>(n) * hx + m] =
+                h * h * La * Lc / (4.0 * kPi) * std::exp(-(ka * ka * La * La + kc * kc * Lc * Lc) / 4.0) * dk2;
+        }
+    return p;
+}
+
 ModePower spectralModePower(const GridSpec& g, const WaveSpectrum& s, double windDir) {
     ModePower p;
     p.grid = g;
@@ -84,7 +102,11 @@ ModePower spectralModePower(const GridSpec& g, const WaveSpectrum& s, double win
 }
 
 HeightField synthesizeGaussian(const GridSpec& g, double h, double L, uint64_t seed) {
-    const ModePower p = gaussianModePower(g, h, L);
+    return synthesizeFromModePower(gaussianModePower(g, h, L), seed);
+}
+
+HeightField synthesizeFromModePower(const ModePower& p, uint64_t seed) {
+    const GridSpec& g = p.grid;
     Fft2dReal fft(g.nx, g.ny);
     const size_t M = static_cast<size_t>(g.nx) * g.ny;
     double* w = fft.real();
@@ -157,7 +179,7 @@ HeightField sinusoidField(const GridSpec& g, double A, double lambda, double u0,
 
 HeightField flatField(const GridSpec& g) { return makeVertexField(g, false); }
 
-ExpectedStats expectedStatistics(const ModePower& p, double windDir) {
+ExpectedStats expectedSlopeStatistics(const ModePower& p, double windDir) {
     const GridSpec& g = p.grid;
     const int hx = p.halfX();
     const double dx = g.dx(), dy = g.dy();
@@ -178,6 +200,14 @@ ExpectedStats expectedStatistics(const ModePower& p, double windDir) {
             e.mssUpwind += P * 0.5 * (std::norm(cu * zx1 + su * zy1) + std::norm(cu * zx2 + su * zy2));
             e.mssCrosswind += P * 0.5 * (std::norm(-su * zx1 + cu * zy1) + std::norm(-su * zx2 + cu * zy2));
         }
+    e.correlationLength = std::nan("");
+    return e;
+}
+
+ExpectedStats expectedStatistics(const ModePower& p, double windDir) {
+    const GridSpec& g = p.grid;
+    ExpectedStats e = expectedSlopeStatistics(p, windDir);
+    const double dx = g.dx(), dy = g.dy();
     // Expected circular autocorrelation = inverse transform of the mode power.
     Fft2dReal fft(g.nx, g.ny);
     for (size_t idx = 0; idx < p.power.size(); ++idx) fft.spectrum()[idx] = p.power[idx];

@@ -42,6 +42,12 @@ struct ModePower {
 // Gaussian autocorrelation C(r) = h^2 exp(-r^2 / L^2): its wave-vector spectrum is
 // C~(k) = h^2 L^2 / (4 pi) exp(-k^2 L^2 / 4) (m^4), and mode k carries C~(k) dkx dky.
 ModePower gaussianModePower(const GridSpec& g, double rmsHeight, double correlationLength);
+// Anisotropic Gaussian autocorrelation C(r) = h^2 exp(-(r_a^2 / La^2 + r_c^2 / Lc^2)), r_a the lag
+// along `direction` (radians ccw from +x) and r_c across it: C~(k) = h^2 La Lc / (4 pi)
+// exp(-(k_a^2 La^2 + k_c^2 Lc^2) / 4). Its slope variances are 2 h^2 / La^2 along and 2 h^2 / Lc^2
+// across the direction (-C'' at 0).
+ModePower anisotropicGaussianModePower(const GridSpec& g, double rmsHeight, double lengthAlong, double lengthAcross,
+                                       double direction);
 // Directional spectrum rotated to the wind direction (radians, counter-clockwise from +x,
 // the direction the wind blows toward): E|h_k|^2 = (Psi(k) + Psi(-k)) dkx dky / 2 (see the
 // synthesis comment in synthesis.cpp). Nyquist rows/columns are left empty.
@@ -51,6 +57,8 @@ ModePower spectralModePower(const GridSpec& g, const WaveSpectrum& s, double win
 // r2c FFT, multiply by sqrt(M C~(k) dk^2) / M, c2r FFT: a field whose ensemble autocorrelation is
 // the periodic sum of h^2 exp(-r^2/L^2) without its mean.
 HeightField synthesizeGaussian(const GridSpec& g, double rmsHeight, double correlationLength, uint64_t seed);
+// The same filtering of the same white noise, for any mode power (E|h_k|^2 = p.power).
+HeightField synthesizeFromModePower(const ModePower& p, uint64_t seed);
 
 // Fourier synthesis at time t (s): h(x, t) = Sum_k [a_k e^{-i w t} + conj(a_-k) e^{i w t}] e^{i k.x}
 // with independent complex Gaussian a_k, E|a_k|^2 = Psi(k) dk^2 / 2, and w = dispersionOmega(|k|,
@@ -74,5 +82,7 @@ struct ExpectedStats {
     double correlationLength = 0;
 };
 ExpectedStats expectedStatistics(const ModePower& p, double windDirection);
+// Only the height and slope moments of expectedStatistics (correlationLength NaN): no FFT.
+ExpectedStats expectedSlopeStatistics(const ModePower& p, double windDirection);
 
 }  // namespace littoral::surfaces

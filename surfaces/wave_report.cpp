@@ -33,7 +33,10 @@ nlohmann::json waveStatsJson(const WaveSurface& s) {
     j["model"] = waveModelName(p.model);
     j["description"] = s.description;
     j["wind_speed"] = isWindDriven(p.model) ? nlohmann::json(p.windSpeed) : nlohmann::json(nullptr);
-    j["wind_direction_deg"] = rad2deg(p.windDirection);
+    // Compass direction the wind (sinusoid: the waves) comes from, degrees clockwise from north.
+    j["wind_from_deg"] = isWindDriven(p.model) ? nlohmann::json(compassFromDirection(p.windDirection)) : nlohmann::json(nullptr);
+    j["waves_from_deg"] = p.model == WaveModel::Sinusoid ? nlohmann::json(compassFromDirection(p.windDirection))
+                                                         : nlohmann::json(nullptr);
     if (s.beaufort)
         j["beaufort"] = {{"number", s.beaufort->number},
                          {"description", s.beaufort->waves},
@@ -54,7 +57,9 @@ nlohmann::json waveStatsJson(const WaveSurface& s) {
                       {"mss_crosswind", num(pr.mssCrosswind)},
                       {"mss_upwind_resolved", num(pr.mssUpwindResolved)},
                       {"mss_crosswind_resolved", num(pr.mssCrosswindResolved)},
-                      {"cox_munk", {{"mss_upwind", num(pr.coxMunkUpwind)},
+                      {"cox_munk", {{"sea", isWindDriven(p.model) ? nlohmann::json(std::string(nameOf(pr.coxMunkSea)))
+                                                                  : nlohmann::json(nullptr)},
+                                    {"mss_upwind", num(pr.coxMunkUpwind)},
                                     {"mss_crosswind", num(pr.coxMunkCrosswind)},
                                     {"mss_total", num(pr.coxMunkTotal)}}},
                       {"expected_on_grid", {{"rms_height", num(pr.expectedRmsHeight)},
@@ -89,8 +94,8 @@ std::string waveSummary(const WaveSurface& s) {
     out += fmt::format("{:<24}{:>12.4g}{:>12.4g}{:>12.4g}\n", "mss crosswind", pr.mssCrosswindResolved, s.grid.mssCrosswind,
                        s.actual.mssCrosswind);
     if (s.beaufort)
-        out += fmt::format("Cox-Munk (1954) mss: upwind {:.4g}, crosswind {:.4g}, total {:.4g}\n", pr.coxMunkUpwind,
-                           pr.coxMunkCrosswind, pr.coxMunkTotal);
+        out += fmt::format("Cox-Munk (1954, {} sea) mss: upwind {:.4g}, crosswind {:.4g}, total {:.4g}\n",
+                           nameOf(pr.coxMunkSea), pr.coxMunkUpwind, pr.coxMunkCrosswind, pr.coxMunkTotal);
     return out;
 }
 

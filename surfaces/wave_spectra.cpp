@@ -1,5 +1,7 @@
 #include "surfaces/wave_spectra.h"
 
+#include "core/cox_munk_fit.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -60,7 +62,8 @@ double frictionVelocity(double u10) {
 }
 
 CoxMunkMss coxMunkMss(double U) {
-    return {3.16e-3 * U, 0.003 + 1.92e-3 * U, 0.003 + 5.12e-3 * U};
+    const SlopeVariances v = coxMunkSlopeVariances(U, CoxMunkSea::Clean);
+    return {v.upwind, v.crosswind, coxMunkCleanTotalMss(U)};
 }
 
 WaveSpectrum::WaveSpectrum(const SpectrumParams& p) : p_(p) {

@@ -79,8 +79,8 @@ double piersonMoskowitzHs(double windSpeed19_5);
 // Cd = (0.8 + 0.065 U10) 1e-3.
 double frictionVelocity(double u10);
 
-// Cox and Munk (1954) clean-surface mean-square slopes, U at 12.5 m:
-// upwind 3.16e-3 U, crosswind 0.003 + 1.92e-3 U, total 0.003 + 5.12e-3 U.
+// Cox and Munk (1954) clean-surface mean-square slopes, U at 12.5 m (core/cox_munk_fit.h):
+// upwind 3.16e-3 U, crosswind 0.003 + 1.92e-3 U, total 0.003 + 5.12e-3 U (their separate fit).
 struct CoxMunkMss { double upwind = 0, crosswind = 0, total = 0; };
 CoxMunkMss coxMunkMss(double windSpeed);
 

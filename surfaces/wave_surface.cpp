@@ -9,6 +9,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/units.h"
+#include "surfaces/cox_munk_surface.h"
 #include "surfaces/facetize.h"
 #include "surfaces/fft2d.h"
 #include "surfaces/synthesis.h"
@@ -20,16 +21,17 @@ namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 enum class Key { Model, Wind, Direction, Size, SizeY, Spacing, Seed, Triangles, Fetch, Gamma, Amplitude,
-                 Wavelength, Phase, Time, Depth, MaxMemory };
+                 Wavelength, Phase, Time, Depth, MaxMemory, Sea };
 
 std::string keyName(const WaveParams& p, Key k) {
     struct Names { const char* cli; const char* scene; };
+    if (k == Key::Direction && p.model == WaveModel::Sinusoid) return p.sceneKeys ? "waves_from_deg" : "--waves-from";
     static const Names names[] = {
-        {"--model", "model"}, {"--wind", "wind_speed"}, {"--direction", "wind_direction_deg"},
+        {"--model", "model"}, {"--wind", "wind_speed"}, {"--wind-from", "wind_from_deg"},
         {"--size", "size"}, {"--size-y", "size_y"}, {"--spacing", "spacing"}, {"--seed", "seed"},
         {"--triangles", "triangles"}, {"--fetch", "fetch"}, {"--gamma", "gamma"},
         {"--amplitude", "amplitude"}, {"--wavelength", "wavelength"}, {"--phase", "phase"},
-        {"--time", "time"}, {"--depth", "depth"}, {"--max-memory", "max_memory_gib"}};
+        {"--time", "time"}, {"--depth", "depth"}, {"--max-memory", "max_memory_gib"}, {"--sea", "sea"}};
     const Names& n = names[static_cast<int>(k)];
     return p.sceneKeys ? n.scene : n.cli;
 }
@@ -72,7 +74,8 @@ GridSpec gridSpecFor(const WaveParams& p) {
 }  // namespace
 
 const std::vector<std::string>& waveModelNames() {
-    static const std::vector<std::string> names{"beaufort", "pierson-moskowitz", "jonswap", "elfouhaily", "sinusoid", "flat"};
+    static const std::vector<std::string> names{"beaufort", "pierson-moskowitz", "jonswap", "elfouhaily",
+                                                "cox-munk",  "sinusoid",          "flat"};
     return names;
 }
 
@@ -87,6 +90,21 @@ std::optional<WaveModel> parseWaveModel(const std::string& name) {
 
 bool isWindDriven(WaveModel m) { return m != WaveModel::Sinusoid && m != WaveModel::Flat; }
 bool isRandom(WaveModel m) { return isWindDriven(m); }
+
+double directionFromCompass(double fromDeg) {
+    // Toward = from + 180 degrees, clockwise from north; counter-clockwise from east that is
+    // 90 - (from + 180) = -90 - from degrees. Reduced to (-180, 180].
+    double d = std::remainder(-90.0 - fromDeg, 360.0);
+    if (d <= -180.0) d += 360.0;
+    return deg2rad(d);
+}
+
+double compassFromDirection(double direction) {
+    double from = std::fmod(-90.0 - rad2deg(direction), 360.0);
+    if (from < 0) from += 360.0;
+    if (from >= 360.0) from -= 360.0;
+    return from;
+}
 
 GridSize gridSizeFor(const WaveParams& p) {
     // The largest spacing <= the requested one that divides the size exactly, so the grid's
@@ -117,7 +135,9 @@ double estimateBytes(const WaveParams& p) {
 
 void validateWaveParams(const WaveParams& p) {
     const bool wind = isWindDriven(p.model);
-    if (wind) {
+    if (p.model == WaveModel::CoxMunk) {
+        checkCoxMunkWind(p.windSpeed, p.where, keyName(p, Key::Wind));
+    } else if (wind) {
         if (!std::isfinite(p.windSpeed) || p.windSpeed <= 0 || p.windSpeed > WaveLimits::kMaxWind)
             fail(p, Key::Wind, fmt::format("{} m/s is not allowed for model {}; allowed: > 0 and <= {} m/s",
                                            p.windSpeed, waveModelName(p.model), WaveLimits::kMaxWind));
@@ -140,10 +160,12 @@ void validateWaveParams(const WaveParams& p) {
     if (!std::isfinite(p.phase)) fail(p, Key::Phase, "must be finite (metres along the wave direction)");
     checkRange(p, Key::Time, p.time, 0.0, WaveLimits::kMaxTime, " s");
     checkRange(p, Key::Depth, p.depth, 0.0, WaveLimits::kMaxDepth, " m (0 = deep water)");
-    if (p.time != 0 && (p.model == WaveModel::Beaufort || p.model == WaveModel::Flat))
+    if (p.time != 0 && (p.model == WaveModel::Beaufort || p.model == WaveModel::CoxMunk || p.model == WaveModel::Flat))
         fail(p, Key::Time, fmt::format("model {} is static; time applies to pierson-moskowitz, jonswap, "
                                        "elfouhaily and sinusoid", waveModelName(p.model)));
     if (!(p.maxMemoryBytes > 0)) fail(p, Key::MaxMemory, "must be > 0");
+    if (p.sea != CoxMunkSea::Clean && p.model != WaveModel::CoxMunk)
+        fail(p, Key::Sea, fmt::format("applies to model cox-munk only (model {} has its own slopes)", waveModelName(p.model)));
 
     // Memory, before anything is allocated.
     const GridSize n = gridSizeFor(p);
@@ -170,6 +192,26 @@ void validateWaveParams(const WaveParams& p) {
         if (std::min(p.sizeX, p.sizeY) < 5 * L)
             log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
                       "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
+    } else if (p.model == WaveModel::CoxMunk) {
+        const SlopeVariances v = coxMunkSlopeVariances(p.windSpeed, p.sea);
+        const double h = coxMunkSurfaceRmsHeight(p.windSpeed);
+        const double L = std::sqrt(2.0) * h / std::sqrt(std::max(v.upwind, v.crosswind));  // the shorter length
+        // As for beaufort: at spacing L/2 forward differences already see 12% less slope variance
+        // (the design compensates, but only while the grid resolves the correlation).
+        if (dmax > 0.5 * L)
+            fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the cox-munk "
+                                              "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); use a spacing <= "
+                                              "{:.4g} m",
+                                              dmax, L, p.windSpeed, h, std::sqrt(std::max(v.upwind, v.crosswind)),
+                                              0.5 * L));
+        // One realisation's slope variance along the wind has relative standard deviation
+        // sqrt(3 pi Lu Lc / (4 A)) (docs/waves.md); warn when it exceeds 5%.
+        const double Lu = std::sqrt(2.0) * h / std::sqrt(v.upwind), Lc = std::sqrt(2.0) * h / std::sqrt(v.crosswind);
+        const double rel = std::sqrt(3.0 * kPi * Lu * Lc / (4.0 * p.sizeX * p.sizeY));
+        if (rel > 0.05)
+            log::warnOnce("waves: a {} x {} m cox-munk surface holds few correlation lengths ({:.3g} x {:.3g} m): its "
+                          "measured slope variances scatter by about {:.0f}% about Cox-Munk's",
+                          p.sizeX, p.sizeY, Lu, Lc, 100 * rel);
     } else if (wind) {
         const WaveSpectrum s(spectrumParamsFor(p));
         const double lp = 2 * kPi / s.peakWavenumber();
@@ -200,10 +242,13 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
     pr.peakWavelength = kNaN;
     if (wind) {
         out.beaufort = beaufortForce(p.windSpeed);
-        const CoxMunkMss cm = coxMunkMss(p.windSpeed);
+        pr.coxMunkSea = p.model == WaveModel::CoxMunk ? p.sea : CoxMunkSea::Clean;
+        const SlopeVariances cm = coxMunkSlopeVariances(p.windSpeed, pr.coxMunkSea);
         pr.coxMunkUpwind = cm.upwind;
         pr.coxMunkCrosswind = cm.crosswind;
-        pr.coxMunkTotal = cm.total;
+        // The clean sea's total is Cox and Munk's own fit to it (0.003 + 5.12e-3 U, what beaufort uses);
+        // the other fits publish components only.
+        pr.coxMunkTotal = pr.coxMunkSea == CoxMunkSea::Clean ? coxMunkCleanTotalMss(p.windSpeed) : cm.total();
     } else {
         pr.coxMunkUpwind = pr.coxMunkCrosswind = pr.coxMunkTotal = kNaN;
     }
@@ -239,6 +284,20 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
         }
         pr.peakWavelength = 2 * kPi / s.peakWavenumber();
         out.description = s.describe();
+        break;
+    }
+    case WaveModel::CoxMunk: {
+        const CoxMunkSurfaceDesign d = designCoxMunkSurface(g, p.windSpeed, p.sea, p.windDirection);
+        power = anisotropicGaussianModePower(g, d.rmsHeight, d.lengthUpwind, d.lengthCrosswind, p.windDirection);
+        out.field = synthesizeFromModePower(*power, p.seed);
+        pr.rmsHeight = d.rmsHeight;
+        pr.mssUpwind = d.target.upwind;
+        pr.mssCrosswind = d.target.crosswind;
+        pr.rmsSlope = std::sqrt(0.5 * d.target.total());
+        out.description = fmt::format("cox-munk Gaussian field ({} sea), U12.5 = {} m/s: h = {:.4g} m, mss upwind {:.4g} "
+                                      "/ crosswind {:.4g}, L = {:.4g} / {:.4g} m",
+                                      nameOf(p.sea), p.windSpeed, d.rmsHeight, d.target.upwind, d.target.crosswind,
+                                      d.lengthUpwind, d.lengthCrosswind);
         break;
     }
     case WaveModel::Sinusoid: {
@@ -277,10 +336,8 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
         pr.expectedRmsHeight = std::sqrt(e.variance);
         pr.expectedRmsSlope = std::sqrt(0.5 * (e.mssX + e.mssY));
         pr.expectedCorrelationLength = e.correlationLength;
-        if (p.model != WaveModel::Beaufort) {
-            pr.rmsSlope = std::sqrt(0.5 * (mu + mc));
-            pr.correlationLength = e.correlationLength;
-        }
+        if (p.model != WaveModel::Beaufort) pr.correlationLength = e.correlationLength;
+        if (p.model != WaveModel::Beaufort && p.model != WaveModel::CoxMunk) pr.rmsSlope = std::sqrt(0.5 * (mu + mc));
     } else {
         pr.expectedRmsHeight = pr.rmsHeight;
         pr.expectedRmsSlope = pr.rmsSlope;
@@ -301,6 +358,14 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
     out.grid = measureHeightField(out.field, statsDirection);
     out.actual = measureMesh(out.mesh, out.field, statsDirection, &out.meshMaxDeviation);
     out.seconds.statistics = seconds(t0);
+    if (p.model == WaveModel::CoxMunk) {
+        // A decimated mesh has larger, smoother facets than the grid whose slopes were designed.
+        const double ru = out.actual.mssUpwind / pr.mssUpwind, rc = out.actual.mssCrosswind / pr.mssCrosswind;
+        if (std::abs(ru - 1.0) > 0.1 || std::abs(rc - 1.0) > 0.1)
+            log::warnOnce("waves: the {} facets of the cox-munk mesh have mean-square slopes {:.4g} upwind and {:.4g} "
+                          "crosswind, {:.0f}% and {:.0f}% of Cox-Munk's; keep the full grid (triangles 0) for glint",
+                          out.mesh.numTriangles(), out.actual.mssUpwind, out.actual.mssCrosswind, 100 * ru, 100 * rc);
+    }
     progress.advance();
     progress.finish();
     return out;

@@ -8,14 +8,18 @@
 // (by default centred on the origin). It is a height field (every triangle faces up,
 // counter-clockwise seen from above) and its boundary vertices lie exactly on the rectangle's
 // edges, with the four corners present, so it can be closed into a water volume with vertical
-// walls. Wind direction: radians counter-clockwise from +x, the direction the wind blows
-// toward (and the waves travel); "upwind"/"crosswind" statistics are along/across that axis.
+// walls. Wind direction (WaveParams::windDirection): radians counter-clockwise from +x, the
+// direction the wind blows toward (and the waves travel); "upwind"/"crosswind" statistics are
+// along/across that axis. Users give instead the compass direction the wind (or, for the
+// sinusoid, the waves) comes FROM, degrees clockwise from north (scene keys wind_from_deg /
+// waves_from_deg, options --wind-from / --waves-from); directionFromCompass converts.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/mesh.h"
 #include "surfaces/beaufort.h"
@@ -24,14 +28,20 @@
 
 namespace littoral::surfaces {
 
-enum class WaveModel { Beaufort, PiersonMoskowitz, Jonswap, Elfouhaily, Sinusoid, Flat };
+enum class WaveModel { Beaufort, PiersonMoskowitz, Jonswap, Elfouhaily, CoxMunk, Sinusoid, Flat };
 
-// "beaufort", "pierson-moskowitz", "jonswap", "elfouhaily", "sinusoid", "flat".
+// "beaufort", "pierson-moskowitz", "jonswap", "elfouhaily", "cox-munk", "sinusoid", "flat".
 const std::vector<std::string>& waveModelNames();
 std::string waveModelName(WaveModel m);
 std::optional<WaveModel> parseWaveModel(const std::string& name);
-bool isWindDriven(WaveModel m);  // beaufort and the three spectra
+bool isWindDriven(WaveModel m);  // beaufort, the three spectra and cox-munk
 bool isRandom(WaveModel m);      // synthesised from random numbers (seed matters)
+
+// The compass direction something comes FROM (degrees clockwise from north, as meteorologists give
+// the wind) as the direction it goes TOWARD in radians counter-clockwise from +x (east), and back
+// (result in [0, 360)). A wind from 270 (west) blows toward +x: direction 0.
+double directionFromCompass(double fromDeg);
+double compassFromDirection(double direction);
 
 // Accepted ranges, shared by the command line and the scene file so both say the same thing.
 struct WaveLimits {
@@ -49,11 +59,12 @@ struct WaveLimits {
 
 struct WaveParams {
     WaveModel model = WaveModel::Beaufort;
-    // Wind speed, m/s, at the model's reference height: 12.5 m for beaufort (Cox and Munk
-    // 1954), 19.5 m for pierson-moskowitz, 10 m for jonswap and elfouhaily. Not used by
+    // Wind speed, m/s, at the model's reference height: 12.5 m for beaufort and cox-munk (Cox and
+    // Munk 1954), 19.5 m for pierson-moskowitz, 10 m for jonswap and elfouhaily. Not used by
     // sinusoid and flat.
     double windSpeed = 6.0;
     double windDirection = 0.0;       // radians, ccw from +x, direction the wind blows toward
+    CoxMunkSea sea = CoxMunkSea::Clean;  // cox-munk: which Cox-Munk fit the slopes follow
     double sizeX = 300.0, sizeY = 300.0;  // m (dissertation: 1200 x 1200 samples at 0.25 m)
     double centreX = 0.0, centreY = 0.0;  // m
     double spacing = 0.25;            // m; the grid uses the largest spacing <= this that divides the size
@@ -79,11 +90,14 @@ struct WaveParams {
 struct PredictedStats {
     double rmsHeight = 0, rmsSlope = 0, correlationLength = 0;
     double significantWaveHeight = 0;           // 4 rms height, m
-    double mssUpwind = 0, mssCrosswind = 0;     // full spectrum (spectral models), else NaN
+    double mssUpwind = 0, mssCrosswind = 0;     // full spectrum (spectral models), the Cox-Munk target
+                                                // (cox-munk), else NaN
     double mssUpwindResolved = 0, mssCrosswindResolved = 0;  // modes on the grid
     double peakWavelength = 0;                  // m (spectral models, sinusoid)
-    // Cox and Munk (1954) clean-surface values at the same wind speed (wind-driven models).
+    // Cox and Munk (1954) values at the same wind speed (wind-driven models): the clean-sea fit,
+    // or for cox-munk the fit its slopes follow (coxMunkSea).
     double coxMunkUpwind = 0, coxMunkCrosswind = 0, coxMunkTotal = 0;
+    CoxMunkSea coxMunkSea = CoxMunkSea::Clean;
     // Ensemble means of the measured grid statistics for this finite periodic grid (random
     // models): what `actual` scatters about, from the discrete mode powers.
     double expectedRmsHeight = 0, expectedRmsSlope = 0, expectedCorrelationLength = 0;

@@ -32,7 +32,7 @@ TEST(SurfaceSection, ReadsValues) {
         "  surface:\n"
         "    model: jonswap\n"
         "    wind_speed: 8.5\n"
-        "    wind_direction_deg: 90\n"
+        "    wind_from_deg: 180\n"
         "    fetch: 20000\n"
         "    gamma: 2.5\n"
         "    size: [120, 80]\n"
@@ -44,7 +44,7 @@ TEST(SurfaceSection, ReadsValues) {
         "    depth: 12\n");
     EXPECT_EQ(p.model, WaveModel::Jonswap);
     EXPECT_EQ(p.windSpeed, 8.5);
-    EXPECT_NEAR(p.windDirection, kPi / 2, 1e-15);
+    EXPECT_NEAR(p.windDirection, kPi / 2, 1e-15);  // from the south: blowing toward +y (north)
     EXPECT_EQ(p.fetch, 20000);
     EXPECT_EQ(p.gamma, 2.5);
     EXPECT_EQ(p.sizeX, 120);
@@ -93,4 +93,67 @@ TEST(SurfaceSection, ErrorsNameKeyAndPosition) {
     // Unknown model.
     e = errorOf("water:\n  surface:\n    model: pierson\n    wind_speed: 6\n");
     EXPECT_NE(e.find("pierson-moskowitz"), std::string::npos) << e;
+}
+
+// The wind is a compass direction it comes FROM (clockwise from north), like every azimuth in a
+// scene file; inside, WaveParams::windDirection is where it blows toward, ccw from east. A wind from
+// the west blows toward east (0), from the north toward south (-pi/2), and so on; the default is
+// from the west, the same physical wind as the old default (wind_direction_deg: 0).
+TEST(SurfaceSection, WindComesFromACompassDirection) {
+    const struct { double from, toward; } cases[] = {{270, 0}, {0, -kPi / 2}, {90, kPi}, {180, kPi / 2}, {360, -kPi / 2},
+                                                     {225, kPi / 4}};
+    for (const auto& c : cases) {
+        const WaveParams p = parse("water:\n  surface:\n    wind_speed: 6\n    wind_from_deg: " + std::to_string(c.from) + "\n");
+        EXPECT_NEAR(std::remainder(p.windDirection - c.toward, 2 * kPi), 0.0, 1e-12) << c.from;
+        EXPECT_NEAR(compassFromDirection(p.windDirection), std::fmod(c.from, 360.0), 1e-9) << c.from;
+    }
+    EXPECT_NEAR(parse("water:\n  surface:\n    wind_speed: 6\n").windDirection, 0.0, 1e-15);
+    // The sinusoid's waves come from a compass direction too.
+    const WaveParams s = parse("water:\n  surface:\n    model: sinusoid\n    waves_from_deg: 0\n");
+    EXPECT_NEAR(s.windDirection, -kPi / 2, 1e-12);
+}
+
+// The old key is refused with an explanation and its conversion, never reinterpreted; the new keys
+// belong to their models; the range is a compass range.
+TEST(SurfaceSection, OldWindKeyIsExplained) {
+    std::string e = errorOf("water:\n  surface:\n    wind_speed: 6\n    wind_direction_deg: 90\n");
+    EXPECT_NE(e.find("scene.yaml:4:25"), std::string::npos) << e;
+    EXPECT_NE(e.find("removed"), std::string::npos) << e;
+    EXPECT_NE(e.find("wind_from_deg"), std::string::npos) << e;
+    EXPECT_NE(e.find("TOWARD"), std::string::npos) << e;
+    EXPECT_NE(e.find("wind_from_deg: 180"), std::string::npos) << e;  // toward north = from south
+    e = errorOf("water:\n  surface:\n    model: sinusoid\n    wind_direction_deg: 0\n");
+    EXPECT_NE(e.find("waves_from_deg: 270"), std::string::npos) << e;
+    e = errorOf("water:\n  surface:\n    model: sinusoid\n    wind_from_deg: 10\n");
+    EXPECT_NE(e.find("does not apply to model sinusoid"), std::string::npos) << e;
+    e = errorOf("water:\n  surface:\n    wind_speed: 6\n    waves_from_deg: 10\n");
+    EXPECT_NE(e.find("does not apply to model beaufort"), std::string::npos) << e;
+    e = errorOf("water:\n  surface:\n    wind_speed: 6\n    wind_from_deg: -10\n");
+    EXPECT_NE(e.find("wind_from_deg"), std::string::npos) << e;
+    EXPECT_NE(e.find("360"), std::string::npos) << e;
+}
+
+// Model cox-munk: its keys, the Cox-Munk wind range, and the full grid by default.
+TEST(SurfaceSection, CoxMunkModel) {
+    const WaveParams p = parse("water:\n  surface:\n    model: cox-munk\n    wind_speed: 7\n    sea: slick\n"
+                               "    size: 40\n    spacing: 0.2\n");
+    EXPECT_EQ(p.model, WaveModel::CoxMunk);
+    EXPECT_EQ(p.sea, CoxMunkSea::Slick);
+    EXPECT_EQ(p.triangles, 0u);
+    EXPECT_EQ(parse("water:\n  surface:\n    model: cox-munk\n    wind_speed: 7\n    size: 40\n").sea, CoxMunkSea::Clean);
+    for (const char* U : {"15", "50", "0", "-1"}) {
+        const std::string e = errorOf(std::string("water:\n  surface:\n    model: cox-munk\n    wind_speed: ") + U + "\n");
+        EXPECT_NE(e.find("scene.yaml:4:17"), std::string::npos) << e;
+        EXPECT_NE(e.find("Cox-Munk range"), std::string::npos) << e;
+        EXPECT_NE(e.find("0.01 to 14"), std::string::npos) << e;
+    }
+    std::string e;
+    e = errorOf("water:\n  surface:\n    wind_speed: 6\n    sea: slick\n");
+    EXPECT_NE(e.find("does not apply to model beaufort"), std::string::npos) << e;
+    e = errorOf("water:\n  surface:\n    model: cox-munk\n    wind_speed: 6\n    sea: slik\n");
+    EXPECT_NE(e.find("did you mean 'slick'"), std::string::npos) << e;
+    // The grid must resolve the correlation length (0.39 m across the wind at 2 m/s).
+    e = errorOf("water:\n  surface:\n    model: cox-munk\n    wind_speed: 2\n    size: 20\n    spacing: 0.5\n");
+    EXPECT_NE(e.find("spacing"), std::string::npos) << e;
+    EXPECT_NE(e.find("correlation length"), std::string::npos) << e;
 }
