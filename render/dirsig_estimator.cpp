@@ -89,9 +89,42 @@ private:
                         RandomStream& rng) const;
     Spec shadeDiffuse(const SurfaceHit& h, const Vec3& wo, const PathState& st, RandomStream& rng) const;
 
+    // Calls f(shift) for the domain-period shifts under which a query reaching from lo to hi must
+    // also be made: {0} in a bounded domain; in a periodic one, also the shifts that bring the
+    // parts of the query outside the domain back inside, where the photons are.
+    template <class F> void forEachPeriodicImage(const Point3& lo, const Point3& hi, F&& f) const;
+    // A point moved into the domain by whole periods (periodic domains; unchanged otherwise).
+    Point3 wrapIntoDomain(Point3 p) const;
+
     const PhotonMaps* maps_;
     double rS_, rV_;  // search radii of this pass
 };
+
+template <class F> void DirsigEstimator::forEachPeriodicImage(const Point3& lo, const Point3& hi, F&& f) const {
+    const ir::Domain& d = scene_.domain();
+    if (!d.periodic) {
+        f(Vec3{0, 0, 0});
+        return;
+    }
+    const double lx = d.x1 - d.x0, ly = d.y1 - d.y0;
+    double sx[3] = {0, 0, 0}, sy[3] = {0, 0, 0};
+    int nx = 1, ny = 1;
+    if (lo.x < d.x0) sx[nx++] = lx;
+    if (hi.x > d.x1) sx[nx++] = -lx;
+    if (lo.y < d.y0) sy[ny++] = ly;
+    if (hi.y > d.y1) sy[ny++] = -ly;
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j) f(Vec3{sx[i], sy[j], 0});
+}
+
+Point3 DirsigEstimator::wrapIntoDomain(Point3 p) const {
+    const ir::Domain& d = scene_.domain();
+    if (!d.periodic) return p;
+    const double lx = d.x1 - d.x0, ly = d.y1 - d.y0;
+    p.x -= std::floor((p.x - d.x0) / lx) * lx;
+    p.y -= std::floor((p.y - d.y0) / ly) * ly;
+    return p;
+}
 
 Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) const {
     Spec L(group_.count);
@@ -114,7 +147,11 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) c
         const Spec T0 = md.transmittance(ray, t0, group_, eff);
         const int l0 = md.layerAt(ray.at(t0).z), l1 = md.layerAt(ray.at(t1).z);
         const MediumLayer& layer = md.layers()[l0];
-        vm.forEachNearSegment(ray.o, ray.d, t0, t1, rV_, [&](size_t i, double t) {
+        const Point3 a = ray.at(t0), b = ray.at(t1);
+        const Point3 lo{std::min(a.x, b.x) - rV_, std::min(a.y, b.y) - rV_, 0};
+        const Point3 hi{std::max(a.x, b.x) + rV_, std::max(a.y, b.y) + rV_, 0};
+        forEachPeriodicImage(lo, hi, [&](const Vec3& shift) {
+        vm.forEachNearSegment(ray.o + shift, ray.d, t0, t1, rV_, [&](size_t i, double t) {
             const Point3 x = vm.position(i);
             const int li = l0 == l1 ? l0 : md.layerAt(x.z);
             const Spec p = md.phase(li, group_, vm.direction(i), toEye);
@@ -127,6 +164,7 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) c
             }
             for (int b = 0; b < group_.count; ++b) L[b] += T[b] * p[b] * vm.power(i, b) * vm.fluxScale[b] * inv;
         });
+        });
     }
     return L;
 }
@@ -136,10 +174,14 @@ Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) c
     const PhotonMap& sm = maps_->surface;
     if (sm.size() == 0) return E;
     const double slab = 0.1 * rS_;
-    sm.forEachInSphere(h.p, rS_, [&](size_t i) {
-        if (dot(sm.normal(i), n) < 0.9) return;                      // another surface orientation or side
-        if (std::abs(dot(sm.position(i) - h.p, n)) > slab) return;     // off this surface's plane
-        for (int b = 0; b < group_.count; ++b) E[b] += sm.power(i, b) * sm.fluxScale[b];
+    const Vec3 rr{rS_, rS_, rS_};
+    forEachPeriodicImage(h.p - rr, h.p + rr, [&](const Vec3& shift) {
+        const Point3 c = h.p + shift;
+        sm.forEachInSphere(c, rS_, [&](size_t i) {
+            if (dot(sm.normal(i), n) < 0.9) return;                  // another surface orientation or side
+            if (std::abs(dot(sm.position(i) - c, n)) > slab) return;   // off this surface's plane
+            for (int b = 0; b < group_.count; ++b) E[b] += sm.power(i, b) * sm.fluxScale[b];
+        });
     });
     if (E.isBlack()) return E;
     // Boundary compensation: the fraction of the search disc that this surface covers, from 16
@@ -149,7 +191,7 @@ Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) c
         int covered = 0;
         for (int k = 0; k < probes; ++k) {
             const double rho = rS_ * std::sqrt((k + 0.5) / probes), phi = 2.399963229728653 * k;
-            const Point3 q = h.p + f.toWorld(Vec3{rho * std::cos(phi), rho * std::sin(phi), 0});
+            const Point3 q = wrapIntoDomain(h.p + f.toWorld(Vec3{rho * std::cos(phi), rho * std::sin(phi), 0}));
             Ray probe;
             probe.o = q + n * slab;
             probe.d = -n;
