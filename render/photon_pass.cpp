@@ -156,7 +156,12 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
             const MaterialData& m = scene.material(h);
             if (m.isPeriodicWall()) {
                 const auto next = scene.wrapRay(h, ray.d);
-                if (!next || ++wraps > Scene::kMaxWraps) return;
+                if (!next) {
+                    static StatCounter& lost = statCounter("photons lost at periodic walls");
+                    lost.add();
+                    return;
+                }
+                if (++wraps > Scene::kMaxWraps) return;
                 ray = *next;
                 continue;
             }

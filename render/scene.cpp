@@ -152,14 +152,29 @@ Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {
 std::optional<Ray> Scene::wrapRay(const SurfaceHit& h, const Vec3& d) const {
     const ir::Domain& D = ir_.domain;
     const double Lx = D.x1 - D.x0, Ly = D.y1 - D.y0;
-    // The wall the hit lies on is the nearest domain edge in plan view (corners wrap both ways).
-    const double tol = 1e-6 * std::max({1.0, Lx, Ly});
+    // The wall the hit lies on is the nearest domain edge in plan view. Embree reports the hit
+    // distance in single precision, so a hit on a wall far from the ray origin can sit ~1e-5 m
+    // off the edge: the nearest edge is taken within a tolerance of 1e-4 of the domain size,
+    // without asking the direction (a ray that hit the wall from inside is leaving). The other
+    // axis also wraps when the hit is at a corner and the ray leaves through it too.
+    const double tol = 1e-4 * std::max({1.0, Lx, Ly});
     Point3 p = h.p;
+    const double ex[4] = {std::abs(p.x - D.x0), std::abs(p.x - D.x1), std::abs(p.y - D.y0),
+                          std::abs(p.y - D.y1)};
+    const int nearest = static_cast<int>(std::min_element(ex, ex + 4) - ex);
+    if (ex[nearest] > tol) return std::nullopt;  // not on a domain edge
+    const bool onX = nearest < 2;
     bool moved = false;
-    if (std::abs(p.x - D.x0) < tol && d.x < 0) p.x += Lx, moved = true;
-    else if (std::abs(p.x - D.x1) < tol && d.x > 0) p.x -= Lx, moved = true;
-    if (std::abs(p.y - D.y0) < tol && d.y < 0) p.y += Ly, moved = true;
-    else if (std::abs(p.y - D.y1) < tol && d.y > 0) p.y -= Ly, moved = true;
+    auto wrapX = [&](bool force) {
+        if (ex[0] <= ex[1] && ex[0] < tol && (force || d.x < 0)) p.x = D.x0 + Lx, moved = true;
+        else if (ex[1] < ex[0] && ex[1] < tol && (force || d.x > 0)) p.x = D.x1 - Lx, moved = true;
+    };
+    auto wrapY = [&](bool force) {
+        if (ex[2] <= ex[3] && ex[2] < tol && (force || d.y < 0)) p.y = D.y0 + Ly, moved = true;
+        else if (ex[3] < ex[2] && ex[3] < tol && (force || d.y > 0)) p.y = D.y1 - Ly, moved = true;
+    };
+    if (onX) wrapX(true), wrapY(false);
+    else wrapY(true), wrapX(false);
     if (!moved) return std::nullopt;  // not on a domain edge, or leaving inward: no wrap
     // Start just inside the opposite wall, pushed off it along its inward normal (not along d,
     // which may graze the wall), so the ray cannot meet the wall it enters through.
