@@ -81,10 +81,9 @@ TEST(AtomicOutput, FailedWriteLeavesPreviousFileIntact) {
     const auto d = freshDir("atomic");
     writeTextFileAtomic(d / "out.txt", "good");
     try {
-        writeFileAtomic(d / "out.txt", [](const fs::path& tmp) {
-            std::ofstream(tmp) << "partial";
-            throw InputError("simulated failure half-way");
-        });
+        AtomicOutput out(d / "out.txt");
+        out.write("partial");
+        throw InputError("simulated failure half-way");
     } catch (const InputError&) {
     }
     EXPECT_EQ(readTextFile(d / "out.txt"), "good");
