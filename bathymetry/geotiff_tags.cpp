@@ -38,6 +38,7 @@ public:
         if (offset > size_ || n > size_ - offset)
             corrupt(fmt::format("data at offset {} (+{} bytes) lies beyond the end of the {}-byte file", offset, n,
                                 size_));
+        if (n == 0) return;
         if (inMemory_) {
             std::memcpy(dst, mem_.data() + offset, n);
             return;
@@ -116,6 +117,7 @@ GeoTiffInfo readInfo(TiffReader& r) {
         if (count > (uint64_t(16) << 20) / ts) r.corrupt(fmt::format("tag {} claims {} values", tag, count));
         std::vector<unsigned char> buf(count * ts);
         const unsigned char* field = e + 4 + (big ? 8 : 4);
+        if (buf.empty()) return buf;  // a tag with no values (memcpy must not see the null data pointer)
         if (buf.size() <= uint64_t(inlineBytes)) std::memcpy(buf.data(), field, buf.size());
         else r.read(r.uint(field, inlineBytes), buf.data(), buf.size());
         return buf;

@@ -302,7 +302,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     Json j;
     try {
         j = Json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // parse_error, and out_of_range for a number such as 1e400 that no double holds.
         throw InputError(SourceLoc{file}, std::string("not valid JSON: ") + e.what());
     }
     JReader r(j, "", file);

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The long fuzzing campaign recorded in docs/reliability.md: every target, one after the other
+# (one process each, -jobs=1, at low priority: the machine is shared), RUNS executions each,
+# starting from the committed seed corpora (left untouched; new inputs go to OUT/<target>/new).
+# Usage: fuzz/campaign.sh FUZZ_BUILD_DIR RUNS OUT_DIR [targets...]
+set -uo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build=$1 runs=$2 out=$3
+shift 3
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(scene ir ply obj off stl raster soundings spectrum_csv)
+mkdir -p "$out"
+for t in "${targets[@]}"; do
+  dict=()
+  [ -f "$root/fuzz/$t.dict" ] && dict=(-dict="$root/fuzz/$t.dict")
+  mkdir -p "$out/$t/new" "$out/$t/artifacts"
+  start=$(date +%s)
+  nice -n 19 "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=10 -rss_limit_mb=2048 -max_len=4096 \
+    -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" \
+    "$out/$t/new" "$root/fuzz/corpus/$t" > "$out/$t/log.txt" 2>&1
+  rc=$?
+  echo "$t rc=$rc seconds=$(( $(date +%s) - start )) $(grep -E '^stat::number_of_executed_units' "$out/$t/log.txt")" \
+    | tee -a "$out/summary.txt"
+done
