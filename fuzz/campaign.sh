@@ -15,10 +15,14 @@ for t in "${targets[@]}"; do
   [ -f "$root/fuzz/$t.dict" ] && dict=(-dict="$root/fuzz/$t.dict")
   mkdir -p "$out/$t/new" "$out/$t/artifacts"
   start=$(date +%s)
-  nice -n 19 "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=10 -rss_limit_mb=2048 -max_len=4096 \
-    -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" \
-    "$out/$t/new" "$root/fuzz/corpus/$t" > "$out/$t/log.txt" 2>&1
+  # -jobs=1: one worker process, whose output libFuzzer writes to fuzz-0.log in the current
+  # folder, hence the cd.
+  (cd "$out/$t" && nice -n 19 "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=10 -rss_limit_mb=2048 \
+     -max_len=4096 -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" \
+     "$out/$t/new" "$root/fuzz/corpus/$t" > "$out/$t/driver.txt" 2>&1)
   rc=$?
-  echo "$t rc=$rc seconds=$(( $(date +%s) - start )) $(grep -E '^stat::number_of_executed_units' "$out/$t/log.txt")" \
+  log="$out/$t/fuzz-0.log"
+  echo "$t rc=$rc seconds=$(( $(date +%s) - start )) $(grep -E '^stat::number_of_executed_units' "$log")" \
+       "$(grep -cE 'ERROR|SUMMARY' "$log") error line(s), artifacts: $(ls "$out/$t/artifacts" | wc -l)" \
     | tee -a "$out/summary.txt"
 done
