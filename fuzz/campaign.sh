@@ -2,6 +2,9 @@
 # The long fuzzing campaign recorded in docs/reliability.md: every target, one after the other
 # (one process each, -jobs=1, at low priority: the machine is shared), RUNS executions each,
 # starting from the committed seed corpora (left untouched; new inputs go to OUT/<target>/new).
+# The timeout is wall-clock time per input: 120 s, because on a shared 2-core machine at load 7 a
+# niced process can wait seconds for the CPU (a 3-byte input once took 6 s of wall time for 0.01 s
+# of CPU); a real hang or blow-up on inputs of at most 4 KB still exceeds it by far.
 # Usage: fuzz/campaign.sh FUZZ_BUILD_DIR RUNS OUT_DIR [targets...]
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -17,7 +20,7 @@ for t in "${targets[@]}"; do
   start=$(date +%s)
   # -jobs=1: one worker process, whose output libFuzzer writes to fuzz-0.log in the current
   # folder, hence the cd.
-  (cd "$out/$t" && nice -n 19 "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=10 -rss_limit_mb=2048 \
+  (cd "$out/$t" && nice -n 19 "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=120 -rss_limit_mb=2048 \
      -max_len=4096 -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" \
      "$out/$t/new" "$root/fuzz/corpus/$t" > "$out/$t/driver.txt" 2>&1)
   rc=$?

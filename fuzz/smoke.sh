@@ -8,5 +8,5 @@ fuzzer=$1 corpus=$2 work=$3 seconds=$4
 shift 4
 rm -rf "$work"
 mkdir -p "$work/new" "$work/artifacts"
-exec "$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+exec "$fuzzer" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
   -artifact_prefix="$work/artifacts/" "$@" "$work/new" "$corpus"

@@ -423,7 +423,8 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         checkCover(spec.waterOptics.refractiveIndex, *w, "water refractive index");
     }
     if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
-    if (spec.sky.radiance) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
+    // Without a sky section the radiance is the constant 0 (docs/scene-format.md): nothing to cover.
+    if (spec.sky.radiance && root.has("sky")) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
     return spec;
 }
 

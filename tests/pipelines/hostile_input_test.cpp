@@ -183,6 +183,12 @@ TEST_F(Hostile, SpecialFilesAtOutputTargetsAreRefusedAndKept) {
     struct stat st;
     ASSERT_EQ(::stat("/dev/null", &st), 0);
     EXPECT_TRUE(S_ISCHR(st.st_mode));
+    const CommandResult full = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats /dev/full");
+    EXPECT_EQ(full.status, 1) << full.output;
+    EXPECT_TRUE(contains(full.output, "/dev/full: error: --stats: refusing to write output: a character device"))
+        << full.output;
+    ASSERT_EQ(::stat("/dev/full", &st), 0);
+    EXPECT_TRUE(S_ISCHR(st.st_mode));
 
     // A symlink, a FIFO and a folder where render would put its files.
     fs::create_directories(out_);
@@ -514,6 +520,66 @@ TEST_F(Hostile, GeometricSceneErrorsAreLocated) {
         EXPECT_EQ(b.status, 1);
         expectNothingWritten(out_, c.cause);
     }
+}
+
+// Inputs whose old messages named the wrong cause.
+TEST_F(Hostile, UnreadableInputsNameTheRealCause) {
+    // A spectrum "file" that cannot be read (here a folder) is not "a spectrum without wavelengths".
+    fs::create_directories(dir_ / "refl.csv");
+    CommandResult r = runScene("check-scene", replaced(kScene, "reflectance: 0.2", "reflectance: {file: refl.csv}"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:6:47: error: materials[0].reflectance.file: file") &&
+                contains(r.output, "refl.csv' does not exist or is not a regular file"))
+        << r.output;
+    // A spectrum file with only a header is empty, and says so with its name.
+    writeTextFile(dir_, "empty.csv", "wavelength_um,value\n");
+    r = runScene("check-scene", replaced(kScene, "reflectance: 0.2", "reflectance: {file: empty.csv}"), false);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "empty.csv: the file holds no 'wavelength_um, value' rows")) << r.output;
+    // A YAML syntax error names its place and yaml-cpp's reason, not "bad file".
+    r = runScene("check-scene", "scene: {name: x\nsky: [1, 2\n", false);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "scene.yaml:") && contains(r.output, "error: YAML syntax error: ")) << r.output;
+    EXPECT_FALSE(contains(r.output, "bad file")) << r.output;
+    // Class maps: an RGB image has no class index per pixel (it used to read as class 128), and a
+    // value without a class is located at texture_classes with the pixel that holds it.
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.5,0.5,0.5 4x4 3 -d uint8 -o " + q(dir_ / "rgb.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.02745098 4x4 1 -d uint8 -o " + q(dir_ / "seven.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    const std::string classes = replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+                                         "bathymetry: {type: planar_slope, z0_m: -2}") +
+                                "texture_classes:\n  map: MAP\n  classes:\n    - {index: 0, name: sand, reflectance: 0.3}\n";
+    r = runScene("check-scene", replaced(classes, "MAP", "rgb.png"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "rgb.png: error: classification map has 3 channels; it must be a single-channel "
+                                   "image of class indices"))
+        << r.output;
+    r = runScene("check-scene", replaced(classes, "MAP", "seven.png"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:13:3: error: texture_classes.classes: the classification map") &&
+                contains(r.output, "holds class value 7 (16 pixels, the first at column 0, row 0), but no class has "
+                                   "index 7; defined: 0"))
+        << r.output;
+}
+
+// What docs/scene-format.md calls optional is optional, and the ENVI header prints band widths as
+// the numbers they are.
+TEST_F(Hostile, DocumentedDefaultsAreDefaults) {
+    // No sky, and water without a surface (a flat surface over the domain).
+    std::string scene = replaced(kScene, "sky: {radiance: 0}\n", "");
+    scene = replaced(scene, "render: {", "render: {bands: [[0.4, 0.5], [0.5, 0.6]], ");
+    const CommandResult r = runScene("run", scene);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* f : {"nadir.exr", "nadir.img", "nadir.hdr", "nadir.png", "nadir_truth.exr", "nadir_material.png",
+                          "probes.csv", "probes.json", "ir/scene.json", "ir/validity.json", "ir/meshes/water.ply"})
+        EXPECT_TRUE(fs::exists(out_ / f)) << f;
+    std::ifstream hdr(out_ / "nadir.hdr");
+    std::string text((std::istreambuf_iterator<char>(hdr)), {});
+    EXPECT_TRUE(contains(text, "fwhm = {0.1, 0.1}")) << text;
+    EXPECT_TRUE(contains(text, "wavelength = {0.45, 0.55}")) << text;
 }
 
 // ---- Mesh readers: the right cause in every format --------------------------------------------------
