@@ -284,6 +284,9 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     s.sceneFile = dir / "scene.yaml";
     writeTextFileAtomic(s.sceneFile, y);
     s.files.push_back(s.sceneFile);
+    // The site is complete: publish it (inside a command's output set the files are only staged
+    // until now), so its sizes can be read and the build that follows can read it.
+    publishStagedOutputs();
     for (const auto& f : s.files) s.totalBytes += fs::file_size(f);
     return s;
 }

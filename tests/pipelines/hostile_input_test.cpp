@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -174,21 +175,24 @@ TEST_F(Hostile, RenderRefusesBadNamesInAnIR) {
 // ---- 2. Special files at output targets --------------------------------------------------------
 
 TEST_F(Hostile, SpecialFilesAtOutputTargetsAreRefusedAndKept) {
-    // A device: `--stats /dev/null` must not turn /dev/null into a regular file (we run as root).
-    const CommandResult dev = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats /dev/null");
-    EXPECT_EQ(dev.status, 1) << dev.output;
-    EXPECT_TRUE(contains(dev.output, "/dev/null: error: --stats: refusing to write output: a character device is in "
-                                     "the way"))
-        << dev.output;
+    // Devices: `--stats /dev/null` or `/dev/full` must not turn the device into a regular file when
+    // run as root. Tested on copies of those devices made in the scratch folder (mknod, root only),
+    // so that a regression cannot damage the machine's own /dev.
     struct stat st;
-    ASSERT_EQ(::stat("/dev/null", &st), 0);
-    EXPECT_TRUE(S_ISCHR(st.st_mode));
-    const CommandResult full = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats /dev/full");
-    EXPECT_EQ(full.status, 1) << full.output;
-    EXPECT_TRUE(contains(full.output, "/dev/full: error: --stats: refusing to write output: a character device"))
-        << full.output;
-    ASSERT_EQ(::stat("/dev/full", &st), 0);
-    EXPECT_TRUE(S_ISCHR(st.st_mode));
+    for (const auto& [name, minor] : {std::pair<const char*, int>{"null", 3}, {"full", 7}}) {
+        const fs::path dev = dir_ / name;
+        if (::mknod(dev.c_str(), S_IFCHR | 0666, makedev(1, minor)) != 0) {
+            std::printf("mknod not permitted (not root): device case skipped, FIFO and symlink cases below\n");
+            break;
+        }
+        const CommandResult r = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats " + q(dev));
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_TRUE(contains(r.output, dev.string() + ": error: --stats: refusing to write output: a character device "
+                                                      "is in the way"))
+            << r.output;
+        ASSERT_EQ(::stat(dev.c_str(), &st), 0);
+        EXPECT_TRUE(S_ISCHR(st.st_mode));
+    }
 
     // A symlink, a FIFO and a folder where render would put its files.
     fs::create_directories(out_);
