@@ -177,7 +177,7 @@ AtomicOutput::~AtomicOutput() {
 
 void AtomicOutput::write(std::string_view bytes) {
     const std::string where = target_.string();
-    const int fd = ::open(temp_.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    const int fd = ::open(temp_.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC | O_NOFOLLOW);
     if (fd < 0) throw InputError(SourceLoc{where}, "cannot write output: " + sysError(errno));
     const char* p = bytes.data();
     size_t left = bytes.size();

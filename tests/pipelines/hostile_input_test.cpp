@@ -403,6 +403,34 @@ TEST_F(Hostile, UnwritableOutputsExitOneBeforeAnyWork) {
     const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "afile"));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "afile: error: --out: cannot create output folder")) << r.output;
+    // A read-only folder: a read-only tmpfs in a private mount namespace (root ignores permission
+    // bits), or a folder without write permission where that is not possible (not root).
+    fs::create_directories(dir_ / "ro");
+    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + q(dir_ / "ir") +
+                               " --out " + q(dir_ / "ro" / "out");
+    std::string ro;
+    for (const char* unshare : {"unshare -m", "unshare -rm"}) {
+        const std::string cmd = std::string(unshare) + " sh -c \"mount -t tmpfs -o ro tmpfs " + q(dir_ / "ro") +
+                                " && " + render + "\" 2>&1; echo \"rc=$?\"";
+        FILE* p = popen(cmd.c_str(), "r");
+        ASSERT_TRUE(p);
+        ro.clear();
+        char buf[4096];
+        while (size_t n = fread(buf, 1, sizeof buf, p)) ro.append(buf, n);
+        pclose(p);
+        if (contains(ro, "Read-only file system")) break;
+    }
+    if (!contains(ro, "Read-only file system") && ::geteuid() != 0) {
+        fs::permissions(dir_ / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+        const CommandResult p = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "ro" / "out"));
+        ro = p.output + "rc=" + std::to_string(p.status);
+        fs::permissions(dir_ / "ro", fs::perms::owner_all);
+    }
+    EXPECT_TRUE(contains(ro, "rc=1")) << ro;
+    EXPECT_TRUE(contains(ro, "--out: output folder") &&
+                (contains(ro, "Read-only file system") || contains(ro, "Permission denied")))
+        << ro;
+    EXPECT_TRUE(listing(dir_ / "ro").empty());
     const CommandResult w = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --out /nonexistent-dir/sea.ply");
     EXPECT_EQ(w.status, 1);
     EXPECT_TRUE(contains(w.output, "--out: the folder '/nonexistent-dir' does not exist")) << w.output;
