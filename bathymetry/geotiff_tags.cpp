@@ -15,25 +15,34 @@ namespace littoral::bathymetry {
 
 namespace {
 
+// Bytes of a TIFF file, from the file itself or from memory.
 class TiffReader {
 public:
-    TiffReader(const std::filesystem::path& path) : path_(path), in_(path, std::ios::binary) {
-        if (!in_) throw InputError(SourceLoc{path.string()}, "cannot open file (missing or unreadable)");
+    TiffReader(const std::filesystem::path& path) : name_(path.string()), in_(path, std::ios::binary) {
+        if (!in_) throw InputError(SourceLoc{name_}, "cannot open file (missing or unreadable)");
         in_.seekg(0, std::ios::end);
         size_ = static_cast<uint64_t>(in_.tellg());
+    }
+    TiffReader(std::string_view data, const std::string& name) : name_(name), mem_(data), inMemory_(true) {
+        size_ = data.size();
     }
 
     uint64_t size() const { return size_; }
     bool little = true;
 
     [[noreturn]] void corrupt(const std::string& what) const {
-        throw InputError(SourceLoc{path_.string()}, "corrupt TIFF: " + what);
+        throw InputError(SourceLoc{name_}, "corrupt TIFF: " + what);
     }
 
     void read(uint64_t offset, void* dst, uint64_t n) {
         if (offset > size_ || n > size_ - offset)
             corrupt(fmt::format("data at offset {} (+{} bytes) lies beyond the end of the {}-byte file", offset, n,
                                 size_));
+        if (n == 0) return;
+        if (inMemory_) {
+            std::memcpy(dst, mem_.data() + offset, n);
+            return;
+        }
         in_.seekg(static_cast<std::streamoff>(offset));
         in_.read(static_cast<char*>(dst), static_cast<std::streamsize>(n));
         if (!in_) corrupt(fmt::format("read failed at offset {}", offset));
@@ -50,8 +59,10 @@ public:
     }
 
 private:
-    std::filesystem::path path_;
+    std::string name_;
     std::ifstream in_;
+    std::string_view mem_;
+    bool inMemory_ = false;
     uint64_t size_ = 0;
 };
 
@@ -67,9 +78,10 @@ int typeSize(uint16_t type) {
 
 }  // namespace
 
-GeoTiffInfo readGeoTiffInfo(const std::filesystem::path& path) {
+namespace {
+
+GeoTiffInfo readInfo(TiffReader& r) {
     GeoTiffInfo info;
-    TiffReader r(path);
     if (r.size() < 8) return info;
     unsigned char hdr[16] = {};
     r.read(0, hdr, std::min<uint64_t>(16, r.size()));
@@ -105,6 +117,7 @@ GeoTiffInfo readGeoTiffInfo(const std::filesystem::path& path) {
         if (count > (uint64_t(16) << 20) / ts) r.corrupt(fmt::format("tag {} claims {} values", tag, count));
         std::vector<unsigned char> buf(count * ts);
         const unsigned char* field = e + 4 + (big ? 8 : 4);
+        if (buf.empty()) return buf;  // a tag with no values (memcpy must not see the null data pointer)
         if (buf.size() <= uint64_t(inlineBytes)) std::memcpy(buf.data(), field, buf.size());
         else r.read(r.uint(field, inlineBytes), buf.data(), buf.size());
         return buf;
@@ -174,6 +187,18 @@ GeoTiffInfo readGeoTiffInfo(const std::filesystem::path& path) {
         }
     }
     return info;
+}
+
+}  // namespace
+
+GeoTiffInfo readGeoTiffInfo(const std::filesystem::path& path) {
+    TiffReader r(path);
+    return readInfo(r);
+}
+
+GeoTiffInfo parseGeoTiffInfo(std::string_view data, const std::string& name) {
+    TiffReader r(data, name);
+    return readInfo(r);
 }
 
 }  // namespace littoral::bathymetry

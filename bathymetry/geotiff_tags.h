@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace littoral::bathymetry {
@@ -29,5 +30,7 @@ struct GeoTiffInfo {
 // Reads the header and first directory. A file that is not a TIFF gives isTiff = false (no error);
 // a TIFF whose directory is damaged is an InputError.
 GeoTiffInfo readGeoTiffInfo(const std::filesystem::path& path);
+// The same for file contents in memory; `name` names them in messages.
+GeoTiffInfo parseGeoTiffInfo(std::string_view data, const std::string& name);
 
 }  // namespace littoral::bathymetry

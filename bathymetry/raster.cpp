@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
@@ -15,6 +16,8 @@
 #include "bathymetry/geotiff_tags.h"
 #include "bathymetry/param_check.h"
 #include "bathymetry/terrain.h"
+#include "core/atomic_file.h"
+#include "core/resource_limits.h"
 #include "core/suggest.h"
 
 namespace littoral::bathymetry {
@@ -84,10 +87,9 @@ std::vector<std::pair<std::string_view, int>> tokens(std::string_view line) {
 
 // ESRI ASCII grid (Arc/Info ASCII GRID): header lines "key value", then nrows lines of ncols values,
 // north row first. Strict: every data line holds exactly ncols values.
-Grid readAsciiGrid(const std::filesystem::path& path, const RasterOptions& opt) {
-    std::ifstream in(path);
-    if (!in) throw InputError(SourceLoc{path.string()}, "cannot open file (missing or unreadable)");
-    const std::string file = path.string();
+Grid parseAsciiGrid(std::string_view text, const std::string& file) {
+    std::istringstream in{std::string(text)};
+    size_t consumed = 0;  // bytes of the text before the current line
     static const std::vector<std::string> kKeys = {"ncols", "nrows", "xllcorner", "xllcenter", "yllcorner",
                                                    "yllcenter", "cellsize", "dx", "dy", "nodata_value"};
     std::map<std::string, std::pair<double, int>> header;  // key -> (value, line)
@@ -100,6 +102,8 @@ Grid readAsciiGrid(const std::filesystem::path& path, const RasterOptions& opt) 
     std::vector<double> raw;
     while (std::getline(in, line)) {
         ++lineNo;
+        const size_t lineOffset = consumed;
+        consumed += line.size() + 1;
         if (!line.empty() && line.back() == '\r') line.pop_back();
         const auto tok = tokens(line);
         if (tok.empty()) continue;
@@ -168,7 +172,14 @@ Grid readAsciiGrid(const std::filesystem::path& path, const RasterOptions& opt) 
             g.xc0 = xll;
             g.yTop = yll + double(g.ny - 1) * g.dy;
             if (header.count("nodata_value")) nodata = header["nodata_value"].first;
-            raw.reserve(size_t(g.nx) * size_t(g.ny));
+            // The header's counts against the memory budget, and against what the rest of the file
+            // can hold (every value takes a digit and a separator) before reserving: a lying header
+            // reserves nothing, and the rows are then read (and found missing) one by one.
+            const double values = double(g.nx) * double(g.ny);
+            requireMemory(8.0 * values, fmt::format("an elevation grid of {} x {} samples would", g.nx, g.ny),
+                          SourceLoc{file, header["nrows"].second});
+            const double left = double(text.size() - std::min(text.size(), lineOffset));
+            if (2.0 * values - 1.0 <= left) raw.reserve(size_t(g.nx) * size_t(g.ny));
         }
         if (row >= g.ny)
             throw InputError(SourceLoc{file, lineNo, tok[0].second},
@@ -239,6 +250,9 @@ Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
     if (opt.channel < 0 || opt.channel >= spec.nchannels)
         throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} channel(s) (0..{})",
                                                       opt.channel, spec.nchannels, spec.nchannels - 1));
+    // Decoding holds the samples twice (the file's type, then double): refuse before allocating.
+    requireMemory(16.0 * double(spec.width) * double(spec.height),
+                  fmt::format("an elevation raster of {} x {} samples would", spec.width, spec.height), SourceLoc{file});
     Grid g;
     g.nx = spec.width;
     g.ny = spec.height;
@@ -321,6 +335,11 @@ bool looksLikeAsciiGrid(const std::filesystem::path& path) {
 
 }  // namespace
 
+std::unique_ptr<Terrain> parseAsciiGridTerrain(std::string_view text, const std::string& file) {
+    Grid g = parseAsciiGrid(text, file);
+    return std::make_unique<RasterTerrain>(std::move(g), file);
+}
+
 std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const RasterOptions& opt) {
     using detail::requireFinite;
     requireFinite("raster", "origin_x_m", opt.originX);
@@ -341,7 +360,7 @@ std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const Ras
         throw InputError(SourceLoc{path.string()}, "elevation raster is not a regular file");
     Grid g;
     if (looksLikeAsciiGrid(path)) {
-        g = readAsciiGrid(path, opt);
+        g = parseAsciiGrid(readTextFile(path), path.string());
         if (opt.extent) {
             // An explicit extent overrides the header's georeferencing (sample-centre rectangle).
             g.dx = opt.extent->width() / double(g.nx - 1);

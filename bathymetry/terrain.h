@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/mesh.h"
@@ -151,6 +152,10 @@ struct RasterOptions {
     int channel = 0;               // TIFF channel holding elevation
 };
 std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const RasterOptions& options = {});
+// An ESRI ASCII grid already in memory, georeferenced by its own header; `file` names it in
+// messages. The header's ncols x nrows is checked against the text's length and the memory
+// budget before anything is allocated.
+std::unique_ptr<Terrain> parseAsciiGridTerrain(std::string_view text, const std::string& file);
 
 // ---------------------------------------------------------------- soundings
 
@@ -164,7 +169,10 @@ struct Sounding {
 // insensitive, extra columns ignored; "lat"/"lon" accepted). Blank lines and lines starting with
 // '#' are skipped. A malformed number, a missing field or an out-of-range latitude/longitude is an
 // InputError naming file:line and the column.
+// The file must be a regular file (core readTextFile). parseSoundingsCsv reads text already in
+// memory, `file` naming it in messages.
 std::vector<Sounding> readSoundingsCsv(const std::filesystem::path& path);
+std::vector<Sounding> parseSoundingsCsv(std::string_view text, const std::string& file);
 
 // What a TIN does at a point outside the convex hull of its vertices.
 enum class OutsideHull {

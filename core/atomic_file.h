@@ -1,37 +1,103 @@
 #pragma once
-// Writing outputs so that a failed run never leaves a truncated file over a good one:
-// everything is written to "<name>.tmp-<pid>" beside the target and renamed on commit().
-// If the AtomicOutput is destroyed without commit() (an exception unwound), the temporary is
-// removed and the target is untouched.
+// Writing outputs so that a failed or interrupted run never leaves a partial file or a partial
+// set of files, and never replaces anything but a regular file.
+//
+//   * Every output is written to a temporary "<stem>.tmp-<pid>-<n><ext>" beside its target with
+//     checked system calls (every write, the final fdatasync and close; ENOSPC or EIO anywhere is
+//     an InputError naming the target, exit 1), then renamed over the target.
+//   * Only a regular file (or nothing) may sit at the target. A symlink, directory, device, FIFO
+//     or socket there is an InputError; it is never replaced (`--stats /dev/null` must not turn
+//     the device into a regular file when run as root).
+//   * Output sets. While an OutputSet is alive (each `littoral` command opens one), commit() only
+//     stages the finished temporary; OutputSet::commit() renames all of them at the end. If the
+//     set is destroyed without commit (an error unwound), its temporaries, any files it had
+//     already renamed and the folders it created are removed: the set is complete or absent.
+//   * SIGINT and SIGTERM (installInterruptCleanup) remove the same things and exit 130 / 143.
+//
+// Without a current OutputSet (library use, unit tests) commit() renames at once.
 #include <filesystem>
-#include <functional>
 #include <string>
+#include <string_view>
 
 namespace littoral {
 
+// InputError (naming `target`) if something other than a regular file exists at `target`
+// (checked with lstat, so a symlink is refused even if it points at a regular file).
+void checkOutputTarget(const std::filesystem::path& target);
+
+// Creates `dir` and its missing parents. Folders created while an OutputSet is current are
+// removed again if the set rolls back. InputError naming `dir` (prefixed with `option`, e.g.
+// "--out", when given) if a path component exists and is not a folder, or a folder cannot be
+// created or written (read-only file system, permissions).
+void createOutputFolder(const std::filesystem::path& dir, std::string_view option = "");
+
+// The same checks without creating anything: every existing component of `dir` is a folder and
+// the deepest existing one is writable. For checking outputs before a long computation.
+void checkOutputFolder(const std::filesystem::path& dir, std::string_view option = "");
+
 class AtomicOutput {
 public:
+    // Checks the target (checkOutputTarget), creates its folder (createOutputFolder) and reserves
+    // an empty temporary beside it (O_EXCL). InputError on any failure.
     explicit AtomicOutput(std::filesystem::path target);
-    ~AtomicOutput();
+    ~AtomicOutput();  // removes the temporary unless committed
     AtomicOutput(const AtomicOutput&) = delete;
     AtomicOutput& operator=(const AtomicOutput&) = delete;
 
     const std::filesystem::path& tempPath() const { return temp_; }
     const std::filesystem::path& target() const { return target_; }
-    void commit();  // rename temp -> target (atomic on one filesystem)
+    // Replaces the temporary's content with `bytes` using checked write(2), fdatasync(2) and
+    // close(2); InputError naming the target with the system's reason (e.g. "No space left on
+    // device") if any of them fails.
+    void write(std::string_view bytes);
+    // Publishes the temporary: renames it over the target, or stages it in the current
+    // OutputSet. Checks the target again first.
+    void commit();
 
 private:
     std::filesystem::path target_, temp_;
     bool committed_ = false;
 };
 
-// Convenience: write text to `target` atomically.
-void writeTextFileAtomic(const std::filesystem::path& target, const std::string& text);
-// Convenience: let `writer` fill the temporary path, then commit.
-void writeFileAtomic(const std::filesystem::path& target,
-                     const std::function<void(const std::filesystem::path& temp)>& writer);
+// Convenience: write `bytes` to `target` atomically.
+void writeFileAtomic(const std::filesystem::path& target, std::string_view bytes);
+inline void writeTextFileAtomic(const std::filesystem::path& target, const std::string& text) {
+    writeFileAtomic(target, text);
+}
 
-// Reads a whole file; InputError naming the path if it cannot be read.
+// The outputs of one command: complete or absent (see the top of this file). Sets do not nest.
+class OutputSet {
+public:
+    OutputSet();
+    ~OutputSet();  // rolls back unless commit() succeeded
+    OutputSet(const OutputSet&) = delete;
+    OutputSet& operator=(const OutputSet&) = delete;
+    // Renames every staged temporary over its target, in the order they were staged. If one
+    // fails, the exception propagates and the destructor rolls back (including the files this
+    // commit already renamed).
+    void commit();
+    static bool active();
+};
+
+// Publishes what the current set has staged so far and makes it permanent (a later rollback
+// keeps it). For outputs that must survive a later failure of the same command: the
+// validity.json of a rejected build, the synthetic site that `demo` then builds from.
+// Without a current set this does nothing.
+void publishStagedOutputs();
+
+// Blocks SIGINT and SIGTERM in the calling thread (threads created later inherit the mask; call
+// it first in main) and starts a thread that waits for them. On either signal it removes this
+// run's temporaries, the files of a set being published and the folders the set created, prints
+// one line on stderr and exits with status 128 + signal (130 for SIGINT, 143 for SIGTERM).
+void installInterruptCleanup();
+
+// Reads a whole regular file; InputError naming the path if it does not exist, is a folder or a
+// special file (a device, FIFO or socket, which could block or never end), is larger than the
+// memory budget, or cannot be read.
 std::string readTextFile(const std::filesystem::path& path);
+
+// InputError naming `path` (prefixed by `what`, e.g. "scene file") unless it is an existing
+// regular file (symlinks to one are fine). Says which of missing / folder / special it is.
+void requireRegularInputFile(const std::filesystem::path& path, std::string_view what = "file");
 
 }  // namespace littoral

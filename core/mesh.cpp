@@ -1,14 +1,19 @@
 #include "core/mesh.h"
 
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <limits>
+#include <optional>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/resource_limits.h"
 
 namespace littoral {
 
@@ -46,37 +51,42 @@ void TriMesh::append(const TriMesh& o) {
     }
 }
 
-void writePly(const std::filesystem::path& path, const TriMesh& m) {
+std::string plyBytes(const TriMesh& m) {
     const bool mat = !m.faceMaterial.empty();
     LITTORAL_CHECK(!mat || m.faceMaterial.size() == m.triangles.size());
-    writeFileAtomic(path, [&](const std::filesystem::path& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f << "ply\nformat binary_little_endian 1.0\ncomment written by Littoral\n";
-        f << "element vertex " << m.positions.size() << "\nproperty double x\nproperty double y\nproperty double z\n";
-        f << "element face " << m.triangles.size() << "\nproperty list uchar uint vertex_indices\n";
-        if (mat) f << "property ushort material\n";
-        f << "end_header\n";
-        static_assert(sizeof(double) == 8);
-        for (const auto& p : m.positions) {
-            const double xyz[3] = {p.x, p.y, p.z};
-            f.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
+    std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by Littoral\n";
+    out += fmt::format("element vertex {}\nproperty double x\nproperty double y\nproperty double z\n", m.positions.size());
+    out += fmt::format("element face {}\nproperty list uchar uint vertex_indices\n", m.triangles.size());
+    if (mat) out += "property ushort material\n";
+    out += "end_header\n";
+    static_assert(sizeof(double) == 8 && std::endian::native == std::endian::little);
+    const size_t header = out.size();
+    out.resize(header + 24 * m.positions.size() + (mat ? 15 : 13) * m.triangles.size());
+    char* p = out.data() + header;
+    for (const auto& v : m.positions) {
+        const double xyz[3] = {v.x, v.y, v.z};
+        std::memcpy(p, xyz, 24);
+        p += 24;
+    }
+    for (size_t i = 0; i < m.triangles.size(); ++i) {
+        *p++ = 3;
+        std::memcpy(p, m.triangles[i].data(), 12);
+        p += 12;
+        if (mat) {
+            std::memcpy(p, &m.faceMaterial[i], 2);
+            p += 2;
         }
-        for (size_t i = 0; i < m.triangles.size(); ++i) {
-            const unsigned char n = 3;
-            f.write(reinterpret_cast<const char*>(&n), 1);
-            f.write(reinterpret_cast<const char*>(m.triangles[i].data()), 12);
-            if (mat) f.write(reinterpret_cast<const char*>(&m.faceMaterial[i]), 2);
-        }
-        f.close();
-        if (!f) throw InputError(SourceLoc{path.string()}, "cannot write PLY file");
-    });
+    }
+    return out;
 }
+
+void writePly(const std::filesystem::path& path, const TriMesh& m) { writeFileAtomic(path, plyBytes(m)); }
 
 namespace {
 
 enum class PlyType { Char, UChar, Short, UShort, Int, UInt, Float, Double };
 
-PlyType parseType(const std::string& s, const std::string& file) {
+std::optional<PlyType> parseType(std::string_view s) {
     if (s == "char" || s == "int8") return PlyType::Char;
     if (s == "uchar" || s == "uint8") return PlyType::UChar;
     if (s == "short" || s == "int16") return PlyType::Short;
@@ -85,7 +95,7 @@ PlyType parseType(const std::string& s, const std::string& file) {
     if (s == "uint" || s == "uint32") return PlyType::UInt;
     if (s == "float" || s == "float32") return PlyType::Float;
     if (s == "double" || s == "float64") return PlyType::Double;
-    throw InputError(SourceLoc{file}, "PLY header: unknown property type '" + s + "'");
+    return std::nullopt;
 }
 
 size_t typeSize(PlyType t) {
@@ -100,188 +110,310 @@ size_t typeSize(PlyType t) {
 
 struct Property {
     std::string name;
-    PlyType type;
+    PlyType type = PlyType::Float;
     bool isList = false;
     PlyType countType = PlyType::UChar;
 };
 struct Element {
     std::string name;
-    size_t count = 0;
+    uint64_t count = 0;
+    int line = 0;
     std::vector<Property> props;
 };
 
+enum class Encoding { Ascii, BinaryLE, BinaryBE };
+
+// Reads the values of the body one at a time; every failure names the file, and for ASCII
+// bodies the line and column.
 class Reader {
 public:
-    Reader(const std::string& data, size_t pos, bool binary, std::string file)
-        : d_(data), pos_(pos), binary_(binary), file_(std::move(file)) {}
-    double read(PlyType t, const char* what) {
-        if (!binary_) {
-            skipSpace();
-            if (pos_ >= d_.size()) fail(what);
-            const char* start = d_.c_str() + pos_;
-            char* end = nullptr;
-            const double v = std::strtod(start, &end);
-            if (end == start) fail(what);
-            pos_ += static_cast<size_t>(end - start);
+    Reader(std::string_view data, size_t pos, Encoding enc, const std::string& file, int firstLine)
+        : d_(data), pos_(pos), enc_(enc), file_(file), bodyStart_(pos), firstLine_(firstLine) {}
+
+    double read(PlyType t, const std::string& what) {
+        if (enc_ == Encoding::Ascii) {
+            while (pos_ < d_.size() && std::isspace(static_cast<unsigned char>(d_[pos_]))) ++pos_;
+            if (pos_ >= d_.size()) fail(fmt::format("the data ends while reading {}", what));
+            size_t end = pos_;
+            while (end < d_.size() && !std::isspace(static_cast<unsigned char>(d_[end]))) ++end;
+            const std::string tok(d_.substr(pos_, end - pos_));
+            char* stop = nullptr;
+            const double v = std::strtod(tok.c_str(), &stop);
+            if (stop != tok.c_str() + tok.size()) fail(fmt::format("'{}' is not a number (reading {})", tok, what));
+            pos_ = end;
             return v;
         }
         const size_t n = typeSize(t);
-        if (pos_ + n > d_.size()) fail(what);
-        const char* p = d_.data() + pos_;
+        if (d_.size() - pos_ < n) fail(fmt::format("the data ends while reading {}", what));
+        unsigned char b[8];
+        std::memcpy(b, d_.data() + pos_, n);
+        if (enc_ == Encoding::BinaryBE) std::reverse(b, b + n);
         pos_ += n;
         switch (t) {
-            case PlyType::Char: return static_cast<int8_t>(*p);
-            case PlyType::UChar: return static_cast<uint8_t>(*p);
-            case PlyType::Short: { int16_t v; std::memcpy(&v, p, 2); return v; }
-            case PlyType::UShort: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-            case PlyType::Int: { int32_t v; std::memcpy(&v, p, 4); return v; }
-            case PlyType::UInt: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-            case PlyType::Float: { float v; std::memcpy(&v, p, 4); return v; }
-            case PlyType::Double: { double v; std::memcpy(&v, p, 8); return v; }
+            case PlyType::Char: return static_cast<int8_t>(b[0]);
+            case PlyType::UChar: return b[0];
+            case PlyType::Short: { int16_t v; std::memcpy(&v, b, 2); return v; }
+            case PlyType::UShort: { uint16_t v; std::memcpy(&v, b, 2); return v; }
+            case PlyType::Int: { int32_t v; std::memcpy(&v, b, 4); return v; }
+            case PlyType::UInt: { uint32_t v; std::memcpy(&v, b, 4); return v; }
+            case PlyType::Float: { float v; std::memcpy(&v, b, 4); return v; }
+            case PlyType::Double: { double v; std::memcpy(&v, b, 8); return v; }
         }
         return 0;
     }
-    [[noreturn]] void fail(const char* what) {
-        throw InputError(SourceLoc{file_}, fmt::format("PLY data ends early or is malformed while reading {}", what));
+    // A list length or an index: a whole number in [0, limit].
+    uint64_t readCount(PlyType t, uint64_t limit, const std::string& what) {
+        const size_t at = pos_;
+        const double v = read(t, what);
+        if (!(v >= 0) || v > static_cast<double>(limit) || v != std::floor(v)) {
+            pos_ = at;
+            fail(fmt::format("{} is {}; expected a whole number from 0 to {}", what, v, limit));
+        }
+        return static_cast<uint64_t>(v);
     }
+    [[noreturn]] void fail(const std::string& msg) const {
+        SourceLoc where{file_};
+        if (enc_ == Encoding::Ascii) {
+            // Line and column of the current position (counted only when reporting).
+            where.line = firstLine_;
+            size_t lineStart = bodyStart_;
+            for (size_t i = bodyStart_; i < pos_ && i < d_.size(); ++i)
+                if (d_[i] == '\n') {
+                    ++where.line;
+                    lineStart = i + 1;
+                }
+            where.column = static_cast<int>(std::min<size_t>(pos_ - lineStart, 1u << 30)) + 1;
+        }
+        throw InputError(where, "PLY data: " + msg);
+    }
+    size_t remaining() const { return d_.size() - pos_; }
 
 private:
-    void skipSpace() {
-        while (pos_ < d_.size() && std::isspace(static_cast<unsigned char>(d_[pos_]))) ++pos_;
-    }
-    const std::string& d_;
+    std::string_view d_;
     size_t pos_;
-    bool binary_;
-    std::string file_;
+    Encoding enc_;
+    const std::string& file_;
+    size_t bodyStart_;
+    int firstLine_;
 };
+
+bool parseCount(std::string_view s, uint64_t* out) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), *out);
+    return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+std::vector<std::string_view> words(std::string_view line) {
+    std::vector<std::string_view> w;
+    size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+        size_t j = i;
+        while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+        if (j > i) w.push_back(line.substr(i, j - i));
+        i = j;
+    }
+    return w;
+}
 
 }  // namespace
 
-TriMesh readPly(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    const std::string data = readTextFile(path);
-    if (data.empty()) throw InputError(SourceLoc{file}, "PLY file is empty");
-    if (data.compare(0, 3, "ply") != 0) throw InputError(SourceLoc{file, 1, 1}, "not a PLY file (no 'ply' magic)");
-    const size_t headerEnd = data.find("end_header");
-    if (headerEnd == std::string::npos) throw InputError(SourceLoc{file}, "PLY header has no end_header");
-    size_t bodyStart = data.find('\n', headerEnd);
-    if (bodyStart == std::string::npos) throw InputError(SourceLoc{file}, "PLY header has no end_header line");
-    ++bodyStart;
+TriMesh parsePly(std::string_view data, const std::string& file, const PlyReadOptions& options) {
+    if (data.empty()) throw InputError(SourceLoc{file}, "PLY file is empty (0 bytes)");
+    if (data.substr(0, 4) != "ply\n" && data.substr(0, 5) != "ply\r\n")
+        throw InputError(SourceLoc{file, 1, 1}, "not a PLY file (the first line must be 'ply')");
 
-    std::istringstream header(data.substr(0, headerEnd));
-    std::string line;
+    // ---- header: one keyword per line up to end_header ----
     std::vector<Element> elements;
-    bool binary = false;
+    std::optional<Encoding> encoding;
+    size_t pos = 0;
     int lineNo = 0;
-    while (std::getline(header, line)) {
+    bool ended = false;
+    while (pos < data.size()) {
+        const size_t nl = data.find('\n', pos);
+        if (nl == std::string_view::npos) break;
+        const std::string_view line = data.substr(pos, nl - pos);
+        pos = nl + 1;
         ++lineNo;
-        std::istringstream ls(line);
-        std::string kw;
-        ls >> kw;
-        if (kw == "format") {
-            std::string fmtName;
-            ls >> fmtName;
-            if (fmtName == "ascii") binary = false;
-            else if (fmtName == "binary_little_endian") binary = true;
-            else throw InputError(SourceLoc{file, lineNo, 1}, "PLY format '" + fmtName + "' is not supported (ascii, binary_little_endian)");
-        } else if (kw == "element") {
+        if (lineNo == 1) continue;  // "ply"
+        const auto w = words(line);
+        const SourceLoc here{file, lineNo, 1};
+        if (w.empty()) continue;
+        if (w[0] == "end_header") {
+            ended = true;
+            break;
+        }
+        if (w[0] == "comment" || w[0] == "obj_info") continue;
+        if (w[0] == "format") {
+            if (encoding) throw InputError(here, "PLY header: 'format' given twice");
+            if (w.size() != 3 || w[2] != "1.0")
+                throw InputError(here, "PLY header: expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+            if (w[1] == "ascii") encoding = Encoding::Ascii;
+            else if (w[1] == "binary_little_endian") encoding = Encoding::BinaryLE;
+            else if (w[1] == "binary_big_endian") encoding = Encoding::BinaryBE;
+            else
+                throw InputError(here, fmt::format("PLY format '{}' is not one of ascii, binary_little_endian, "
+                                                   "binary_big_endian", w[1]));
+        } else if (w[0] == "element") {
             Element e;
-            long long count = -1;
-            ls >> e.name >> count;
-            if (count < 0) throw InputError(SourceLoc{file, lineNo, 1}, "PLY element '" + e.name + "' has no valid count");
-            e.count = static_cast<size_t>(count);
-            elements.push_back(e);
-        } else if (kw == "property") {
-            if (elements.empty()) throw InputError(SourceLoc{file, lineNo, 1}, "PLY property before any element");
+            if (w.size() != 3 || !parseCount(w[2], &e.count))
+                throw InputError(here, "PLY header: expected 'element <name> <count>' with a whole-number count");
+            e.name = std::string(w[1]);
+            e.line = lineNo;
+            for (const auto& o : elements)
+                if (o.name == e.name) throw InputError(here, fmt::format("PLY header: element '{}' declared twice", e.name));
+            elements.push_back(std::move(e));
+        } else if (w[0] == "property") {
+            if (elements.empty()) throw InputError(here, "PLY header: 'property' before any 'element'");
             Property p;
-            std::string t;
-            ls >> t;
-            if (t == "list") {
-                std::string ct, it;
-                ls >> ct >> it >> p.name;
+            if (w.size() == 5 && w[1] == "list") {
+                const auto ct = parseType(w[2]), it = parseType(w[3]);
+                if (!ct || !it || *ct == PlyType::Float || *ct == PlyType::Double)
+                    throw InputError(here, fmt::format("PLY header: list types '{} {}' are not valid (an integer "
+                                                       "count type, then any type)", w[2], w[3]));
                 p.isList = true;
-                p.countType = parseType(ct, file);
-                p.type = parseType(it, file);
+                p.countType = *ct;
+                p.type = *it;
+                p.name = std::string(w[4]);
+            } else if (w.size() == 3) {
+                const auto t = parseType(w[1]);
+                if (!t) throw InputError(here, fmt::format("PLY header: unknown property type '{}'", w[1]));
+                p.type = *t;
+                p.name = std::string(w[2]);
             } else {
-                p.type = parseType(t, file);
-                ls >> p.name;
+                throw InputError(here, "PLY header: expected 'property <type> <name>' or 'property list <count type> "
+                                       "<item type> <name>'");
             }
-            elements.back().props.push_back(p);
+            for (const auto& o : elements.back().props)
+                if (o.name == p.name)
+                    throw InputError(here, fmt::format("PLY header: property '{}' declared twice", p.name));
+            elements.back().props.push_back(std::move(p));
+        } else {
+            throw InputError(here, fmt::format("PLY header: unknown keyword '{}'", w[0]));
+        }
+    }
+    if (!ended) throw InputError(SourceLoc{file}, "PLY header has no end_header line (truncated or not a PLY file)");
+    if (!encoding) throw InputError(SourceLoc{file}, "PLY header has no 'format' line");
+
+    // ---- every declared count must fit in what the file holds, before anything is allocated ----
+    {
+        double minBytes = 0;
+        for (const auto& e : elements) {
+            double each = 0;
+            for (const auto& p : e.props)
+                each += *encoding == Encoding::Ascii ? 2.0 : static_cast<double>(typeSize(p.isList ? p.countType : p.type));
+            minBytes += each * static_cast<double>(e.count);
+        }
+        // ASCII: one character and one separator per value, except that the last needs no separator.
+        const double payload = static_cast<double>(data.size() - pos) + (*encoding == Encoding::Ascii ? 1.0 : 0.0);
+        if (minBytes > payload) {
+            std::string what;
+            for (const auto& e : elements) what += fmt::format("{}{} {}", what.empty() ? "" : ", ", e.count, e.name);
+            throw InputError(SourceLoc{file}, fmt::format("PLY header declares {} elements, needing at least {:.0f} bytes "
+                                                          "of {} data, but the file holds only {} bytes after the "
+                                                          "header: truncated or corrupt",
+                                                          what, minBytes,
+                                                          *encoding == Encoding::Ascii ? "ascii" : "binary",
+                                                          data.size() - pos));
         }
     }
 
     TriMesh m;
-    Reader r(data, bodyStart, binary, file);
-    bool sawMaterial = false;
+    Reader r(data, pos, *encoding, file, lineNo + 1);
+    bool sawMaterial = false, sawVertex = false;
     for (const auto& e : elements) {
+        if (e.props.empty()) continue;  // nothing stored per element
         if (e.name == "vertex") {
+            sawVertex = true;
             int ix = -1, iy = -1, iz = -1;
             for (size_t k = 0; k < e.props.size(); ++k) {
+                if (e.props[k].isList) continue;
                 if (e.props[k].name == "x") ix = static_cast<int>(k);
                 if (e.props[k].name == "y") iy = static_cast<int>(k);
                 if (e.props[k].name == "z") iz = static_cast<int>(k);
             }
-            if (ix < 0 || iy < 0 || iz < 0) throw InputError(SourceLoc{file}, "PLY vertex element lacks x, y or z");
+            if (ix < 0 || iy < 0 || iz < 0)
+                throw InputError(SourceLoc{file, e.line, 1}, "PLY vertex element lacks a scalar x, y or z property");
+            if (e.count > std::numeric_limits<uint32_t>::max())
+                throw InputError(SourceLoc{file, e.line, 1}, fmt::format("{} vertices: at most 2^32 - 1 supported", e.count));
             m.positions.resize(e.count);
-            for (size_t i = 0; i < e.count; ++i) {
+            for (uint64_t i = 0; i < e.count; ++i) {
                 for (size_t k = 0; k < e.props.size(); ++k) {
                     const auto& p = e.props[k];
                     if (p.isList) {
-                        const size_t n = static_cast<size_t>(r.read(p.countType, "a vertex list"));
-                        for (size_t j = 0; j < n; ++j) r.read(p.type, "a vertex list");
+                        const uint64_t n = r.readCount(p.countType, r.remaining(), "a vertex list length");
+                        for (uint64_t j = 0; j < n; ++j) r.read(p.type, "a vertex list");
                         continue;
                     }
-                    const double v = r.read(p.type, "vertices");
+                    const double v = r.read(p.type, fmt::format("vertex {}", i));
                     if (static_cast<int>(k) == ix) m.positions[i].x = v;
                     else if (static_cast<int>(k) == iy) m.positions[i].y = v;
                     else if (static_cast<int>(k) == iz) m.positions[i].z = v;
                 }
-                if (!isFinite(m.positions[i]))
-                    throw InputError(SourceLoc{file}, fmt::format("vertex {} has a non-finite coordinate", i));
+                if (!options.allowNonFinite && !isFinite(m.positions[i]))
+                    throw InputError(SourceLoc{file}, fmt::format("PLY vertex {} has a non-finite coordinate ({}, {}, {})",
+                                                                  i, m.positions[i].x, m.positions[i].y,
+                                                                  m.positions[i].z));
             }
         } else if (e.name == "face") {
-            for (size_t i = 0; i < e.count; ++i) {
+            bool hasIndices = false;
+            for (const auto& p : e.props) hasIndices = hasIndices || (p.isList && (p.name == "vertex_indices" || p.name == "vertex_index"));
+            if (!hasIndices)
+                throw InputError(SourceLoc{file, e.line, 1}, "PLY face element lacks a 'vertex_indices' list property");
+            for (uint64_t i = 0; i < e.count; ++i) {
                 std::vector<uint32_t> idx;
                 uint16_t mat = 0;
                 for (const auto& p : e.props) {
+                    const bool indices = p.name == "vertex_indices" || p.name == "vertex_index";
                     if (p.isList) {
-                        const double n = r.read(p.countType, "faces");
-                        if (n < 0 || n > 1000) r.fail("faces");
-                        for (int j = 0; j < static_cast<int>(n); ++j) {
-                            const double v = r.read(p.type, "faces");
-                            if (p.name == "vertex_indices" || p.name == "vertex_index") idx.push_back(static_cast<uint32_t>(v));
+                        const uint64_t n = r.readCount(p.countType, indices ? 1000 : r.remaining(),
+                                                       fmt::format("the corner count of face {}", i));
+                        for (uint64_t j = 0; j < n; ++j) {
+                            if (!indices) {
+                                r.read(p.type, fmt::format("face {}", i));
+                                continue;
+                            }
+                            idx.push_back(static_cast<uint32_t>(
+                                r.readCount(p.type, std::numeric_limits<uint32_t>::max(), fmt::format("a vertex index of face {}", i))));
                         }
+                    } else if (p.name == "material") {
+                        mat = static_cast<uint16_t>(r.readCount(p.type, 65535, fmt::format("the material of face {}", i)));
+                        sawMaterial = true;
                     } else {
-                        const double v = r.read(p.type, "faces");
-                        if (p.name == "material") { mat = static_cast<uint16_t>(v); sawMaterial = true; }
+                        r.read(p.type, fmt::format("face {}", i));
                     }
                 }
                 if (idx.size() < 3)
-                    throw InputError(SourceLoc{file}, fmt::format("face {} has {} vertices; at least 3 needed", i, idx.size()));
+                    throw InputError(SourceLoc{file}, fmt::format("PLY face {} has {} corners; at least 3 needed", i, idx.size()));
                 for (size_t j = 1; j + 1 < idx.size(); ++j) {
                     m.triangles.push_back({idx[0], idx[j], idx[j + 1]});
                     m.faceMaterial.push_back(mat);
                 }
             }
         } else {
-            for (size_t i = 0; i < e.count; ++i)
+            for (uint64_t i = 0; i < e.count; ++i)
                 for (const auto& p : e.props) {
                     if (p.isList) {
-                        const size_t n = static_cast<size_t>(r.read(p.countType, e.name.c_str()));
-                        for (size_t j = 0; j < n; ++j) r.read(p.type, e.name.c_str());
+                        const uint64_t n = r.readCount(p.countType, r.remaining(), "a list length of element " + e.name);
+                        for (uint64_t j = 0; j < n; ++j) r.read(p.type, "element " + e.name);
                     } else {
-                        r.read(p.type, e.name.c_str());
+                        r.read(p.type, "element " + e.name);
                     }
                 }
         }
     }
+    if (!sawVertex && !m.triangles.empty()) throw InputError(SourceLoc{file}, "PLY file has faces but no vertex element");
     if (!sawMaterial) m.faceMaterial.clear();
     for (size_t f = 0; f < m.triangles.size(); ++f)
         for (uint32_t v : m.triangles[f])
             if (v >= m.positions.size())
-                throw InputError(SourceLoc{file}, fmt::format("face {} refers to vertex {}, but there are only {} vertices",
+                throw InputError(SourceLoc{file}, fmt::format("PLY face {} refers to vertex {}, but there are only {} "
+                                                              "vertices (numbered from 0)",
                                                               f, v, m.positions.size()));
     return m;
+}
+
+TriMesh readPly(const std::filesystem::path& path, const PlyReadOptions& options) {
+    return parsePly(readTextFile(path), path.string(), options);
 }
 
 }  // namespace littoral

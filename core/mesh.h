@@ -5,6 +5,8 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/bbox.h"
@@ -32,11 +34,21 @@ struct TriMesh {
 };
 
 // PLY I/O. Writing: binary little-endian, double-precision vertices, face property
-// "material" (ushort) when faceMaterial is set; the output is byte-for-byte deterministic.
-// Reading: ascii or binary_little_endian, float or double vertices, triangle faces (polygons
-// are fan-triangulated), optional face "material". Malformed files raise InputError naming
-// the file and the element.
+// "material" (ushort) when faceMaterial is set; the output is byte-for-byte deterministic and
+// written atomically (core/atomic_file.h).
+// Reading: ascii, binary_little_endian or binary_big_endian; any scalar vertex types; faces as
+// a "vertex_indices" list (polygons are fan-triangulated, at most 1000 corners); optional face
+// "material". Strict: unknown header keywords, element counts that the file is too short to
+// hold (checked before anything is allocated), indices that are not whole numbers or name a
+// vertex that does not exist, and truncated data are InputErrors naming the file (and for
+// ascii data the line and column).
+struct PlyReadOptions {
+    // Keep NaN / infinite coordinates (for validity checks that name them); otherwise an error.
+    bool allowNonFinite = false;
+};
+std::string plyBytes(const TriMesh& mesh);
 void writePly(const std::filesystem::path& path, const TriMesh& mesh);
-TriMesh readPly(const std::filesystem::path& path);
+TriMesh parsePly(std::string_view data, const std::string& fileForErrors, const PlyReadOptions& options = {});
+TriMesh readPly(const std::filesystem::path& path, const PlyReadOptions& options = {});
 
 }  // namespace littoral

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/output_names.h"
 #include "core/suggest.h"
 #include "core/units.h"
 
@@ -232,11 +233,13 @@ std::string toJsonText(const SceneIR& s) {
         probes.push_back(pj);
     }
     j["probes"] = probes;
-    return j.dump(2) + "\n";
+    // Names were validated on the way in; replace (not throw on) any invalid UTF-8 in free text
+    // such as a file name recorded in the metadata, so writing an IR cannot fail half-way.
+    return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 void writeIR(const SceneIR& s, const fs::path& dir) {
-    fs::create_directories(dir);
+    createOutputFolder(dir);
     std::set<std::string> files;
     for (const auto& m : s.meshes) {
         if (m.file.empty() || fs::path(m.file).is_absolute() || m.file.find("..") != std::string::npos)
@@ -350,7 +353,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     Json j;
     try {
         j = Json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // parse_error, and out_of_range for a number such as 1e400 that no double holds.
         throw InputError(SourceLoc{file}, std::string("not valid JSON: ") + e.what());
     }
     JReader r(j, "", file);
@@ -544,6 +548,11 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         se.position = c["position_m"].vec3();
         se.forward = c["forward"].vec3();
         se.up = c["up"].vec3();
+        // Range-checked before the narrowing cast: a hand-edited 1e10 must not wrap to a small int.
+        for (const char* k : {"width", "height", "samples_per_pixel"}) {
+            const int64_t v = c[k].integer();
+            if (v < 1 || v > 1'000'000) c[k].fail(fmt::format("{} is out of range; allowed [1, 1000000]", v));
+        }
         se.width = static_cast<int>(c["width"].integer());
         se.height = static_cast<int>(c["height"].integer());
         if (se.type == Sensor::Type::Pinhole) {
@@ -573,7 +582,46 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         }
         s.probes.push_back(pr);
     }
+    validateNamesAndPaths(s, file);
     return s;
+}
+
+void validateNamesAndPaths(const SceneIR& s, const std::string& file) {
+    auto fail = [&](const std::string& path, const std::string& msg) {
+        throw InputError(SourceLoc{file}, path + ": " + msg);
+    };
+    auto name = [&](const std::string& path, const std::string& n, const char* what) {
+        const std::string problem = outputNameProblem(n);
+        if (!problem.empty()) fail(path, fmt::format("{} name '{}' {}", what, printableName(n), problem));
+    };
+    // A file named by the IR must stay inside the IR folder: relative, no "..", no empty parts.
+    auto relative = [&](const std::string& path, const std::string& f) {
+        const fs::path p(f);
+        bool ok = !f.empty() && !p.is_absolute() && f.find('\0') == std::string::npos;
+        for (const auto& part : p) ok = ok && part != ".." && part != "." && !part.empty();
+        if (!ok)
+            fail(path, fmt::format("'{}' must be a relative path inside the IR folder (no '..', not absolute)",
+                                   printableName(f)));
+    };
+    name("name", s.name, "scene");
+    for (size_t i = 0; i < s.sensors.size(); ++i) name(fmt::format("sensors[{}].name", i), s.sensors[i].name, "sensor");
+    for (size_t i = 0; i < s.probes.size(); ++i) name(fmt::format("probes[{}].name", i), s.probes[i].name, "probe");
+    for (size_t i = 0; i < s.meshes.size(); ++i) relative(fmt::format("meshes[{}].file", i), s.meshes[i].file);
+    for (size_t i = 0; i < s.materials.size(); ++i)
+        if (s.materials[i].type == Material::Type::Textured)
+            relative(fmt::format("materials[{}].texture.file", i), s.materials[i].texture);
+    std::vector<std::string> sensorNames;
+    for (const auto& c : s.sensors) sensorNames.push_back(c.name);
+    if (const auto clash = findOutputClash(sensorNames, !s.probes.empty())) {
+        if (clash->first == clash->second)
+            fail(fmt::format("sensors[{}].name", clash->second),
+                 fmt::format("sensor '{}' would write {}, the probe table's name", s.sensors[clash->second].name,
+                             clash->file));
+        fail(fmt::format("sensors[{}].name", clash->second),
+             fmt::format("sensors '{}' and '{}' would both write {} (output names must differ after the suffixes "
+                         "the renderer adds, ignoring case)",
+                         s.sensors[clash->first].name, s.sensors[clash->second].name, clash->file));
+    }
 }
 
 SceneIR readIR(const fs::path& dir) {

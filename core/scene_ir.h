@@ -241,6 +241,12 @@ void writeIR(const SceneIR& scene, const std::filesystem::path& dir);
 // path (e.g. "scene.json: materials[2].type") on unknown keys, wrong types, dangling names.
 SceneIR readIR(const std::filesystem::path& dir);
 
+// The names and paths of an IR read from disk (called by fromJsonText): scene, sensor and probe
+// names are output names (core/output_names.h) and the sensors' output files are distinct;
+// mesh and texture files are relative paths inside the IR folder. InputError naming `file` and
+// the JSON path of the offending entry.
+void validateNamesAndPaths(const SceneIR& scene, const std::string& fileForErrors);
+
 // Serialisation of scene.json alone (meshes not touched), used by the round-trip test.
 std::string toJsonText(const SceneIR& scene);
 SceneIR fromJsonText(const std::string& text, const std::string& fileForErrors);

@@ -24,11 +24,15 @@ int editDistance(std::string_view a, std::string_view b) {
 std::string closestMatch(std::string_view word, const std::vector<std::string>& candidates) {
     std::string best;
     int bestD = 1 << 30;
+    const int limit = std::max<int>(1, static_cast<int>(std::min<size_t>(word.size(), 1u << 20)) / 3);
     for (const auto& c : candidates) {
+        // The distance is at least the difference in length: a candidate that cannot come within
+        // the limit is not compared (a garbage "word" of kilobytes costs nothing).
+        const size_t diff = word.size() > c.size() ? word.size() - c.size() : c.size() - word.size();
+        if (diff > static_cast<size_t>(limit)) continue;
         const int d = editDistance(word, c);
         if (d < bestD) { bestD = d; best = c; }
     }
-    const int limit = std::max<int>(1, static_cast<int>(word.size()) / 3);
     if (bestD <= limit) return best;
     // A unit suffix left off ("gsd" for "gsd_m", "range" for "range_m") is a common slip.
     if (word.size() >= 3)

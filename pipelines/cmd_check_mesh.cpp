@@ -30,7 +30,10 @@ int runCheckMesh(const CheckMeshOptions& o) {
         mesh = readMeshFile(o.file);
     } catch (const MeshReadError& e) {
         std::fprintf(stderr, "%s\n", e.what());
-        if (o.json) std::cout << nlohmann::json{{"file", o.file}, {"readable", false}, {"error", e.message()}}.dump(2) << "\n";
+        if (o.json)
+            std::cout << nlohmann::json{{"file", o.file}, {"readable", false}, {"error", e.message()}}.dump(
+                             2, ' ', false, nlohmann::json::error_handler_t::replace)
+                      << "\n";
         return 2;
     }
     ValidityReport rep = checkMesh(mesh);
@@ -51,14 +54,16 @@ int runCheckMesh(const CheckMeshOptions& o) {
         for (const auto& r : after.reasons(o.maxListed)) std::fprintf(stderr, "repair: remaining: %s\n", r.c_str());
     }
     if (o.json) {
-        std::cout << j.dump(2) << "\n";
+        std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     } else {
         std::cout << fmt::format("{}: {} vertices, {} faces, {} component(s)\n", o.file, rep.vertices, rep.faces,
                                  rep.components);
         std::cout << fmt::format("  closed {}  manifold {}  self-intersections {}  bounds volume {}  outward {}\n",
                                  rep.closed ? "yes" : "no", rep.manifold ? "yes" : "no", rep.selfIntersections.size(),
                                  rep.boundsVolume ? "yes" : "no", rep.outward ? "yes" : "no");
-        std::cout << fmt::format("  volume {:.9g} m^3, area {:.9g} m^2, boundary edges {}\n", rep.volume, rep.area,
+        const std::string volume = rep.boundsVolume ? fmt::format("{:.9g} m^3", rep.volume)
+                                                    : std::string("n/a (the mesh does not bound a volume)");
+        std::cout << fmt::format("  volume {}, area {:.9g} m^2, boundary edges {}\n", volume, rep.area,
                                  rep.boundaryEdges.size());
         std::cout << (rep.valid() ? "  valid closed volume\n" : "  INVALID\n");
     }

@@ -15,7 +15,9 @@ littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("demo", "Generate, build and render the built-in coastal scene");
     auto o = std::make_shared<littoral::pipelines::DemoOptions>();
     cmd->add_option("--out", o->out, "Output directory")->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Seed of the synthetic site and the render")->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the synthetic site and the render, 0 to 2^62")
+        ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))
+        ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {

@@ -43,13 +43,26 @@ struct WavesOptions {
     std::string out;
     std::string stats;
     double fetch = 0.0, gamma = 3.3, amplitude = 0.5, wavelength = 2.0, phase = 0.0, time = 0.0, depth = 0.0;
-    double maxMemoryGiB = surf::WaveLimits::kDefaultMaxMemory / 1073741824.0;
 };
 
-void checkOutputFolder(const std::string& option, const std::filesystem::path& p) {
+// The folder of an output file must exist (it is not created: a typo in a folder name should not
+// silently make a new tree) and hold nothing but a regular file at the name.
+void checkOutputFile(const std::string& option, const std::filesystem::path& p) {
     const auto dir = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
     if (!std::filesystem::is_directory(dir))
         throw InputError(fmt::format("{}: the folder '{}' does not exist", option, dir.string()));
+    try {
+        littoral::checkOutputTarget(p);
+    } catch (const InputError& e) {
+        throw InputError(e.where(), option + ": " + e.message());
+    }
+}
+
+// Two options naming one file would have one output overwrite the other.
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
+    std::error_code ea, eb;
+    const auto ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+    return !ea && !eb ? ca == cb : a.lexically_normal() == b.lexically_normal();
 }
 
 std::string lowerExtension(const std::filesystem::path& p) {
@@ -118,8 +131,6 @@ surf::WaveParams toParams(const WavesOptions& o) {
     p.phase = o.phase;
     p.time = o.time;
     p.depth = o.depth;
-    if (!(o.maxMemoryGiB > 0)) throw InputError("--max-memory: must be > 0 (GiB)");
-    p.maxMemoryBytes = o.maxMemoryGiB * 1073741824.0;
     return p;
 }
 
@@ -131,9 +142,12 @@ void runWaves(const WavesOptions& o) {
         const std::string ext = lowerExtension(o.out);
         if (ext != ".ply" && ext != ".obj")
             throw InputError(fmt::format("--out: '{}' has an unsupported extension; allowed: .ply, .obj", o.out));
-        checkOutputFolder("--out", o.out);
+        checkOutputFile("--out", o.out);
     }
-    if (!o.stats.empty()) checkOutputFolder("--stats", o.stats);
+    if (!o.stats.empty()) checkOutputFile("--stats", o.stats);
+    if (!o.out.empty() && !o.stats.empty() && sameFile(o.out, o.stats))
+        throw InputError(fmt::format("--stats: '{}' is the same file as --out; the statistics would overwrite the mesh",
+                                     o.stats));
     surf::validateWaveParams(params);
 
     const surf::WaveSurface s = surf::generateWaveSurface(params);
@@ -166,7 +180,9 @@ littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
     cmd->add_option("--size", o->size, "Side of the square surface, m (centred on the origin)")->capture_default_str();
     cmd->add_option("--size-y", o->sizeY, "Extent along y, m, if different from --size");
     cmd->add_option("--spacing", o->spacing, "Grid spacing, m")->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Random seed, 0 to 2^62")
+        ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))
+        ->capture_default_str();
     cmd->add_option("--triangles", o->triangles,
                     "Target triangle count after decimation (0 = full grid); default 30000, cox-munk 0");
     cmd->add_option("--out", o->out, "Mesh output (.ply or .obj)");
@@ -180,8 +196,6 @@ littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
     cmd->add_option("--time", o->time, "Time, s: advances each wave component by its dispersion relation")
         ->capture_default_str();
     cmd->add_option("--depth", o->depth, "Water depth for the dispersion relation, m (0 = deep water)")
-        ->capture_default_str();
-    cmd->add_option("--max-memory", o->maxMemoryGiB, "Refuse grids estimated to need more memory than this, GiB")
         ->capture_default_str();
     cmd->callback([o] { runWaves(*o); });
 }};

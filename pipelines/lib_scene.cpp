@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "render/estimator.h"
 #include "render/render_job.h"
@@ -35,18 +36,27 @@ void checkRenderSettings(const scenegen::SceneSpec& spec) {
 std::string checkScene(const fs::path& sceneFile) {
     const auto spec = scenegen::loadSceneFile(sceneFile);
     checkRenderSettings(spec);
-    // The geometry sections are checked by their own parsers without generating anything.
-    if (spec.waterSurface) scenegen::parseWaterSurface(*spec.waterSurface);
-    if (spec.bathymetry) scenegen::parseBathymetry(*spec.bathymetry);
+    // Every check short of rendering: the geometry is built in memory (nothing is written), so the
+    // geometric checks run too (objects against the domain and each other, sensors and probes
+    // against the ground and the objects, surface coverage, the water volume itself).
+    scenegen::AssembleOptions ao;
+    const scenegen::AssembledScene built = scenegen::assembleScene(spec, ao);
+    if (!built.valid) {
+        std::string msg = "the assembled scene failed its validity checks";
+        if (built.validity.contains("water") && !built.validity["water"]["valid"].get<bool>())
+            for (const auto& r : built.validity["water"]["reasons"]) msg += "\n  water: " + r.get<std::string>();
+        throw InputError(SourceLoc{sceneFile.string()}, msg);
+    }
     size_t objects = 0;
-    if (spec.objects) objects = scenegen::parseObjects(*spec.objects).size();
-    if (spec.textureClasses) scenegen::parseTextureClasses(*spec.textureClasses);
+    for (const auto& m : built.ir.meshes) objects += m.file.rfind("meshes/object_", 0) == 0 ? 1 : 0;
     std::string s;
     s += fmt::format("  scene '{}': domain [{}, {}] x [{}, {}] m\n", spec.scene.name, spec.scene.x0, spec.scene.x1,
                      spec.scene.y0, spec.scene.y1);
     s += fmt::format("  {} band(s), {} sensor(s), {} probe(s), {} material(s), {} object(s){}{}\n",
                      spec.render.settings.bands.size(), spec.sensors.size(), spec.probes.size(), spec.materials.size(),
                      objects, spec.hasWater ? ", water" : "", spec.bathymetry ? ", bathymetry" : "");
+    for (const auto& m : built.ir.meshes)
+        s += fmt::format("  mesh {:<20} {:>8} faces{}\n", m.name, m.data.numTriangles(), m.closed ? ", closed" : "");
     return s;
 }
 
@@ -69,6 +79,9 @@ std::string runScene(const RunOptions& o) {
     const fs::path out(o.out), irDir = out / "ir";
     checkRenderSettings(scenegen::loadSceneFile(o.scene));  // before anything is written
     const auto built = scenegen::buildScene(o.scene, irDir);
+    // The IR is a complete output set of its own, and the renderer reads its textures from
+    // disk: publish it before rendering (a failed render then leaves the IR, never part of it).
+    publishStagedOutputs();
     const auto t1 = std::chrono::steady_clock::now();
     render::RenderJobOptions jo;
     jo.sensor = o.sensor;
@@ -91,6 +104,7 @@ std::string runDemo(const DemoOptions& o) {
     scenegen::SiteOptions so;
     so.seed = o.seed;
     const auto site = scenegen::writeSyntheticSite(out / "site", so);
+    publishStagedOutputs();  // the site is read back from disk by the build below
     RunOptions ro;
     ro.scene = site.sceneFile.string();
     ro.out = o.out;

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/resource_limits.h"
 #include "core/suggest.h"
 #include "core/units.h"
 #include "render/photon_pass.h"
@@ -71,11 +72,6 @@ private:
     throw InputError(fmt::format("media[{}] '{}': {}", i, m.name, msg));
 }
 
-// The memory budget for photon maps: 3/4 of the machine's physical memory.
-double photonMemoryBudget() {
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    return pages > 0 && page > 0 ? 0.75 * static_cast<double>(pages) * static_cast<double>(page) : 4.0 * (1ull << 30);
-}
 
 }  // namespace
 
@@ -128,14 +124,14 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
                 const int bands = std::min<int>(static_cast<int>(s.bands.size()), kMaxGroupBands);
                 const double need =
                     static_cast<double>(c.surfacePhotons) * (20 + 2 * bands) + static_cast<double>(c.volumePhotons) * (16 + 2 * bands);
-                const double budget = photonMemoryBudget();
+                const double budget = static_cast<double>(memoryBudget());
                 if (need * 1.3 > budget)  // records plus grid and chunk overshoot (photonMapBytes)
                     r.fail(c.volumePhotons * (16 + 2 * bands) > c.surfacePhotons * (20 + 2 * bands) ? "volume_photons" : "surface_photons",
-                           fmt::format("{} surface and {} volume photons need {:.1f} GiB ({} and {} bytes each with {} "
-                                       "band(s), plus the search grid), more than the memory budget of {:.1f} GiB "
-                                       "(3/4 of this machine's memory)",
-                                       c.surfacePhotons, c.volumePhotons, need * 1.3 / (1ull << 30), 20 + 2 * bands,
-                                       16 + 2 * bands, bands, budget / (1ull << 30)));
+                           fmt::format("{} surface and {} volume photons need {} ({} and {} bytes each with {} "
+                                       "band(s), plus the search grid), more than the memory budget of {} "
+                                       "(--max-memory)",
+                                       c.surfacePhotons, c.volumePhotons, formatBytes(need * 1.3), 20 + 2 * bands,
+                                       16 + 2 * bands, bands, formatBytes(budget)));
             }
             r.finish("dirsig", surfacePM < 0 && mediumPM < 0
                                    ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read only "

@@ -1,5 +1,6 @@
 #include "render/image_output.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/resource_limits.h"
 
 namespace littoral::render {
 
@@ -27,22 +29,36 @@ namespace {
 constexpr const char* kRadianceUnits = "W m^-2 sr^-1 um^-1";
 constexpr const char* kQuantity = "band-averaged spectral radiance";
 
-// AtomicOutput creates the parent directory in its constructor, which throws filesystem_error
-// for an unwritable location: report that as the user's mistake, naming the path.
-std::unique_ptr<AtomicOutput> openAtomic(const fs::path& target) {
-    try {
-        return std::make_unique<AtomicOutput>(target);
-    } catch (const fs::filesystem_error& e) {
-        throw InputError(SourceLoc{target.string()}, std::string("cannot create output: ") + e.code().message());
+// Every image is encoded in memory (OIIO's writers do not report a full disk: an 8 KB EXR and a
+// 0-byte PNG were once left as "finished" outputs) and reaches the disk through the checked,
+// atomic writer of core/atomic_file.h.
+std::string encodeImage(const fs::path& target, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+    const std::string ext = target.extension().string().empty() ? std::string("exr") : target.extension().string().substr(1);
+    auto out = OIIO::ImageOutput::create(ext);
+    if (!out) throw InputError(SourceLoc{target.string()}, "no image writer for this file type: " + OIIO::geterror());
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput vec(bytes);
+    if (!out->supports("ioproxy") || !out->set_ioproxy(&vec))
+        throw InternalError("the OpenImageIO " + ext + " writer cannot encode into memory");
+    if (!out->open("memory." + ext, spec)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + out->geterror());
+    if (!out->write_image(type, data)) {
+        const std::string err = out->geterror();
+        out->close();
+        throw InputError(SourceLoc{target.string()}, "cannot encode: " + err);
     }
+    if (!out->close()) throw InputError(SourceLoc{target.string()}, "cannot encode: " + out->geterror());
+    return std::string(bytes.begin(), bytes.end());
 }
 
-void commitAtomic(AtomicOutput& out) {
-    try {
-        out.commit();
-    } catch (const fs::filesystem_error& e) {
-        throw InputError(SourceLoc{out.target().string()}, std::string("cannot write output: ") + e.code().message());
-    }
+void writeImage(const fs::path& target, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+    writeFileAtomic(target, encodeImage(target, spec, type, data));
+}
+
+// Band centres and widths in an ENVI header: 12 significant digits, so 0.5 - 0.4 prints as 0.1
+// rather than its binary neighbour 0.09999999999999998 (a picometre is far below any band edge).
+std::string headerNumber(double v) {
+    std::string s = fmt::format("{:.12g}", v);
+    return s;
 }
 
 // Shortest decimal that reads back to the same double (std::to_chars round-trip guarantee).
@@ -90,22 +106,6 @@ void checkFilm(const Film& film, const fs::path& path) {
                                      film.width, film.height, film.bands.size(), film.pixels.size()));
 }
 
-// Writes `data` (interleaved by pixel, `spec.nchannels` per pixel) with OIIO to `temp`.
-void oiioWrite(const fs::path& target, const fs::path& temp, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
-               const void* data) {
-    auto out = OIIO::ImageOutput::create(temp.string());
-    if (!out)
-        throw InputError(SourceLoc{target.string()}, "no image writer for this file type: " + OIIO::geterror());
-    if (!out->open(temp.string(), spec))
-        throw InputError(SourceLoc{target.string()}, "cannot open for writing: " + out->geterror());
-    if (!out->write_image(type, data)) {
-        const std::string err = out->geterror();
-        out->close();
-        throw InputError(SourceLoc{target.string()}, "write failed: " + err);
-    }
-    if (!out->close()) throw InputError(SourceLoc{target.string()}, "close failed: " + out->geterror());
-}
-
 struct OiioImage {
     OIIO::ImageSpec spec;
     std::vector<float> data;  // interleaved floats, spec.nchannels per pixel
@@ -113,10 +113,15 @@ struct OiioImage {
 
 OiioImage oiioReadFloat(const fs::path& path) {
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
+    requireRegularInputFile(path, "image file");
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + OIIO::geterror());
     OiioImage img;
     img.spec = in->spec();
+    requireMemory(8.0 * double(img.spec.width) * double(img.spec.height) * double(img.spec.nchannels),
+                  fmt::format("an image of {} x {} px x {} channels would", img.spec.width, img.spec.height,
+                              img.spec.nchannels),
+                  SourceLoc{path.string()});
     img.data.resize(static_cast<std::size_t>(img.spec.width) * img.spec.height * img.spec.nchannels);
     if (!in->read_image(0, 0, 0, img.spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data()))
         throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in->geterror());
@@ -169,9 +174,7 @@ void writeExr(const fs::path& path, const Film& film, const std::map<std::string
     spec.attribute("littoral:band_lo_um", joinCommas(lo));
     spec.attribute("littoral:band_hi_um", joinCommas(hi));
     for (const auto& [k, v] : metadata) spec.attribute("littoral:" + k, v);
-    auto out = openAtomic(path);
-    oiioWrite(path, out->tempPath(), spec, OIIO::TypeDesc::FLOAT, film.pixels.data());
-    commitAtomic(*out);
+    writeImage(path, spec, OIIO::TypeDesc::FLOAT, film.pixels.data());
 }
 
 Film readExr(const fs::path& path, std::map<std::string, std::string>* metadata) {
@@ -232,8 +235,8 @@ void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& des
     std::replace(desc.begin(), desc.end(), '}', ')');
     std::vector<std::string> wl, fwhm, names = bandChannelNames(film.bands);
     for (const Band& b : film.bands) {
-        wl.push_back(shortest(b.center()));
-        fwhm.push_back(shortest(b.width()));
+        wl.push_back(headerNumber(b.center()));
+        fwhm.push_back(headerNumber(b.width()));
     }
     std::string hdr;
     hdr += "ENVI\n";
@@ -261,29 +264,22 @@ void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& des
         }
     }
 
-    auto imgOut = openAtomic(imgPath);
-    auto hdrOut = openAtomic(hdrPath);
-    {
-        std::ofstream f(imgOut->tempPath(), std::ios::binary);
-        f.write(reinterpret_cast<const char*>(bsq.data()), static_cast<std::streamsize>(bsq.size() * sizeof(float)));
-        f.close();
-        if (!f) throw InputError(SourceLoc{imgPath.string()}, "cannot write ENVI data file");
-    }
-    {
-        std::ofstream f(hdrOut->tempPath(), std::ios::binary);
-        f << hdr;
-        f.close();
-        if (!f) throw InputError(SourceLoc{hdrPath.string()}, "cannot write ENVI header file");
-    }
+    AtomicOutput imgOut(imgPath);
+    AtomicOutput hdrOut(hdrPath);
+    imgOut.write(std::string_view(reinterpret_cast<const char*>(bsq.data()), bsq.size() * sizeof(float)));
+    hdrOut.write(hdr);
     // Both temporaries are complete; rename the data first so a header never names missing data.
     // If the header cannot be renamed, remove the data just committed: a .img without its .hdr
-    // (or beside an older, mismatched .hdr) is worse than no output.
-    commitAtomic(*imgOut);
+    // (or beside an older, mismatched .hdr) is worse than no output. (Inside an OutputSet both are
+    // only staged here, and the set publishes or removes them together.)
+    imgOut.commit();
     try {
-        commitAtomic(*hdrOut);
+        hdrOut.commit();
     } catch (...) {
-        std::error_code ec;
-        fs::remove(imgPath, ec);
+        if (!OutputSet::active()) {
+            std::error_code ec;
+            fs::remove(imgPath, ec);
+        }
         throw;
     }
 }
@@ -375,20 +371,28 @@ Film readEnvi(const fs::path& imgPath) {
             else if (u != "micrometers" && u != "um" && u != "microns")
                 throw InputError(SourceLoc{file}, "wavelength units '" + u + "' not supported (Micrometers or Nanometers)");
         }
+        if (w <= 0 || ht <= 0 || nb <= 0 || offset < 0)
+            throw InputError(SourceLoc{file}, fmt::format("samples, lines and bands must be positive and the header "
+                                                          "offset >= 0 (found {}, {}, {}, {})", w, ht, nb, offset));
         std::vector<Band> bands;
         for (int b = 0; b < nb; ++b)
             bands.push_back(Band{scale * (wl[b] - 0.5 * fw[b]), scale * (wl[b] + 0.5 * fw[b])});
-        Film film(w, ht, bands);
-
-        const std::size_t n = film.pixels.size();
+        // The data file must hold exactly what the header describes: checked (in double, so hostile
+        // sizes cannot overflow) before the film is allocated.
+        requireRegularInputFile(imgPath, "ENVI data file");
         std::ifstream f(imgPath, std::ios::binary);
         if (!f) throw InputError(SourceLoc{imgPath.string()}, "cannot open ENVI data file");
         f.seekg(0, std::ios::end);
         const auto size = static_cast<std::size_t>(f.tellg());
-        if (size != static_cast<std::size_t>(offset) + n * 4)
+        const double expected = double(offset) + 4.0 * double(w) * double(ht) * double(nb);
+        if (double(size) != expected)
             throw InputError(SourceLoc{imgPath.string()},
-                             fmt::format("file holds {} bytes; the header implies {} ({} x {} x {} float32 + offset {})",
-                                         size, offset + n * 4, w, ht, nb, offset));
+                             fmt::format("file holds {} bytes; the header implies {:.0f} ({} x {} x {} float32 + offset {})",
+                                         size, expected, w, ht, nb, offset));
+        requireMemory(8.0 * double(w) * double(ht) * double(nb),
+                      fmt::format("an ENVI image of {} x {} px x {} bands would", w, ht, nb), SourceLoc{imgPath.string()});
+        Film film(w, ht, bands);
+        const std::size_t n = film.pixels.size();
         f.seekg(offset);
         std::vector<float> raw(n);
         f.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(n * 4));
@@ -519,9 +523,7 @@ void writePngPreview(const fs::path& path, const Film& film, const PreviewOption
     spec.attribute("ImageDescription",
                    fmt::format("Littoral preview: white = {} {}, gamma = {}, blur sigma = {} px", white, kRadianceUnits,
                                o.gamma, o.blurSigma));
-    auto out = openAtomic(path);
-    oiioWrite(path, out->tempPath(), spec, OIIO::TypeDesc::UINT8, bytes.data());
-    commitAtomic(*out);
+    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
 // ---- Truth images -----------------------------------------------------------------------------
@@ -561,9 +563,7 @@ void writeTruthExr(const fs::path& path, const TruthImages& t, const std::vector
         }
         spec.attribute("littoral:materials", joinCommas(escaped));
     }
-    auto out = openAtomic(path);
-    oiioWrite(path, out->tempPath(), spec, OIIO::TypeDesc::FLOAT, data.data());
-    commitAtomic(*out);
+    writeImage(path, spec, OIIO::TypeDesc::FLOAT, data.data());
 }
 
 TruthImages readTruthExr(const fs::path& path) {
@@ -592,9 +592,7 @@ void writeMaterialIdTiff(const fs::path& path, const TruthImages& t) {
     spec.channelnames = {"materialId"};
     spec.attribute("compression", "zip");
     spec.attribute("ImageDescription", "Littoral material id per pixel (index into the IR materials, -1 = nothing hit)");
-    auto out = openAtomic(path);
-    oiioWrite(path, out->tempPath(), spec, OIIO::TypeDesc::INT32, t.materialId.data());
-    commitAtomic(*out);
+    writeImage(path, spec, OIIO::TypeDesc::INT32, t.materialId.data());
 }
 
 std::vector<int32_t> readMaterialIdTiff(const fs::path& path, int* width, int* height) {
@@ -646,9 +644,7 @@ void writeMaterialIdPng(const fs::path& path, const TruthImages& t) {
     OIIO::ImageSpec spec(t.width, t.height, 3, OIIO::TypeDesc::UINT8);
     spec.attribute("Software", "Littoral");
     spec.attribute("ImageDescription", "Littoral material ids, false colour (black = nothing hit)");
-    auto out = openAtomic(path);
-    oiioWrite(path, out->tempPath(), spec, OIIO::TypeDesc::UINT8, bytes.data());
-    commitAtomic(*out);
+    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
 }  // namespace littoral::render

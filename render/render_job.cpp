@@ -5,6 +5,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/output_names.h"
+#include "core/render_budget.h"
 #include "core/suggest.h"
 #include "render/estimator.h"
 
@@ -126,6 +128,18 @@ ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash)
 
 RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
                              const std::filesystem::path& outDir, const RenderJobOptions& opts) {
+    // Outputs first: a name that is not a file name, two sensors writing one file, or an output
+    // folder that cannot be created is found before any rendering time is spent.
+    const SourceLoc irFile{(irDir / "scene.json").string()};
+    ir::validateNamesAndPaths(ir, irFile.file);
+    checkOutputFolder(outDir, "--out");
+    for (const ir::Sensor& s : ir.sensors)
+        if (opts.sensor.empty() || s.name == opts.sensor)
+            for (const std::string& f : sensorOutputFiles(s.name)) checkOutputTarget(outDir / f);
+    if (opts.sensor.empty() && !ir.probes.empty())
+        for (const std::string& f : probeOutputFiles()) checkOutputTarget(outDir / f);
+    checkRenderMemory(ir, opts.sensor, irFile);
+
     const Scene scene(ir, irDir);
     std::vector<const ir::Sensor*> sensors;
     for (const ir::Sensor& s : ir.sensors)
@@ -181,32 +195,30 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     }
 
     // Everything computed: now write.
-    std::error_code ec;
-    std::filesystem::create_directories(outDir, ec);
-    if (ec) throw InputError(fmt::format("{}: cannot create output directory: {}", outDir.string(), ec.message()));
     std::vector<std::string> materialNames;
     for (const ir::Material& m : ir.materials) materialNames.push_back(m.name);
     for (const SensorImage& img : res.images) {
         const std::map<std::string, std::string> meta{{"scene", ir.name},
                                                       {"sensor", img.sensor},
                                                       {"seed", std::to_string(ir.render.seed)}};
-        const auto base = outDir / img.sensor;
-        writeExr(base.string() + ".exr", img.film, meta);
-        writeEnvi(base.string() + ".img", img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor));
+        // File names from the one list that output_names.h checks for clashes:
+        // S.exr, S.img (+ S.hdr), S.png, S_truth.exr, S_material.png.
+        const std::vector<std::string> files = sensorOutputFiles(img.sensor);
+        writeExr(outDir / files[0], img.film, meta);
+        writeEnvi(outDir / files[1], img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor));
         PreviewOptions po = opts.preview;
         if (img.film.bandCount() < 3) po.mapping = PreviewOptions::Mapping::Grey;
         if (po.mapping == PreviewOptions::Mapping::Grey) po.greyUm = img.film.bands[0].center();
-        writePngPreview(base.string() + ".png", img.film, po);
-        writeTruthExr(base.string() + "_truth.exr", img.truth, materialNames);
-        writeMaterialIdPng(base.string() + "_material.png", img.truth);
-        for (const char* suffix : {".exr", ".img", ".hdr", ".png", "_truth.exr", "_material.png"})
-            res.written.push_back(base.string() + suffix);
+        writePngPreview(outDir / files[3], img.film, po);
+        writeTruthExr(outDir / files[4], img.truth, materialNames);
+        writeMaterialIdPng(outDir / files[5], img.truth);
+        for (const std::string& f : files) res.written.push_back(outDir / f);
     }
     if (!res.probes.empty()) {
-        writeTextFileAtomic(outDir / "probes.csv", probesCsv(res.probes, scene.bands()));
-        writeTextFileAtomic(outDir / "probes.json", probesJson(res.probes, scene.bands()));
-        res.written.push_back(outDir / "probes.csv");
-        res.written.push_back(outDir / "probes.json");
+        const std::vector<std::string> files = probeOutputFiles();
+        writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, scene.bands()));
+        writeTextFileAtomic(outDir / files[1], probesJson(res.probes, scene.bands()));
+        for (const std::string& f : files) res.written.push_back(outDir / f);
     }
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
     return res;

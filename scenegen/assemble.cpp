@@ -14,6 +14,7 @@
 #include "scenegen/assembly_sections.h"
 #include "scenegen/mesh_validity.h"
 #include "scenegen/objects.h"
+#include "scenegen/scene_checks.h"
 #include "scenegen/surface_section.h"
 #include "scenegen/water_volume.h"
 #include "surfaces/wave_surface.h"
@@ -62,6 +63,27 @@ ir::Material wallMaterial(bool periodic) {
     return m;
 }
 
+// validity.json text. A file name from the command line need not be UTF-8; it is written with
+// replacement characters rather than failing half-way through the outputs.
+std::string validityText(const nlohmann::json& v) {
+    return v.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// water.surface omitted: a flat surface over the domain (docs/scene-format.md). A flat surface
+// needs no resolution, so the grid is coarse (four cells across the shorter side) and kept whole.
+surfaces::WaveParams defaultWaterSurface(const bathymetry::Extent& d) {
+    surfaces::WaveParams p;
+    p.model = surfaces::WaveModel::Flat;
+    p.windSpeed = 0.0;
+    p.sizeX = d.width();
+    p.sizeY = d.height();
+    p.centreX = 0.5 * (d.x0 + d.x1);
+    p.centreY = 0.5 * (d.y0 + d.y1);
+    p.spacing = 0.25 * std::min(d.width(), d.height());
+    p.triangles = 0;
+    return p;
+}
+
 nlohmann::json meshSummary(const TriMesh& m) {
     nlohmann::json j;
     j["vertices"] = m.numVertices();
@@ -84,6 +106,7 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     ir::SceneIR& ir = out.ir;
     applyCommonSections(spec, &ir);
     const bathymetry::Extent domain{spec.scene.x0, spec.scene.y0, spec.scene.x1, spec.scene.y1};
+    checkRenderMemory(spec, ir);  // before any geometry: refuse an impossible render at once
 
     // ---- parse the geometry sections ----
     auto t = Clock::now();
@@ -164,6 +187,11 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
                                                     o.name, m));
         placed.push_back(loadObject(o, frame ? &*frame : nullptr, spec.waterLevel));
     }
+    {
+        std::vector<const TriMesh*> meshes;
+        for (const auto& p : placed) meshes.push_back(&p.solid.mesh);
+        checkObjectPlacement(objects, meshes, domain);
+    }
     out.seconds.objects = since(t);
 
     // ---- water surface ----
@@ -173,9 +201,13 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     TriMesh land;
     bool valid = true;
     if (spec.hasWater) {
-        if (!spec.waterSurface)
-            throw InputError(SourceLoc{spec.file.string()}, "water: missing 'surface' (the air-water interface)");
-        surfaces::WaveParams wp = parseWaterSurface(*spec.waterSurface);
+        surfaces::WaveParams wp;
+        if (spec.waterSurface) {
+            wp = parseWaterSurface(*spec.waterSurface);
+            checkSurfaceCoverage(wp, domain, spec.waterSurface->loc());
+        } else {
+            wp = defaultWaterSurface(domain);
+        }
         if (opt.surfaceTriangles) wp.triangles = *opt.surfaceTriangles;
         const surfaces::WaveSurface ws = surfaces::generateWaveSurface(wp);
         TriMesh surface = ws.mesh;
@@ -289,15 +321,22 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     validity["seconds"] = out.seconds.toJson();
     out.validity = std::move(validity);
     out.valid = valid;
+    {
+        // Sensors and probes against the ground, the objects (now in the IR) and the whole scene.
+        std::vector<const TriMesh*> meshes;
+        for (const auto& o : objects)
+            if (const ir::Mesh* m = ir.findMesh(o.name)) meshes.push_back(&m->data);
+        if (meshes.size() == objects.size()) checkSensorsAndProbes(spec, ir, objects, meshes, elevation, domain);
+    }
     ir.metadata["generator"] = "littoral build";
     return out;
 }
 
 void writeAssembledScene(const AssembledScene& scene, const std::filesystem::path& dir) {
-    std::filesystem::create_directories(dir);
+    createOutputFolder(dir);
     if (scene.textures) scene.textures->writeTextures(dir);
     ir::writeIR(scene.ir, dir);
-    writeTextFileAtomic(dir / "validity.json", scene.validity.dump(2) + "\n");
+    writeTextFileAtomic(dir / "validity.json", validityText(scene.validity));
 }
 
 AssembledScene buildScene(const std::filesystem::path& sceneYaml, const std::filesystem::path& outDir,
@@ -309,8 +348,9 @@ AssembledScene buildScene(const std::filesystem::path& sceneYaml, const std::fil
     s.seconds.parse += parse;
     if (!s.valid) {
         if (!outDir.empty()) {
-            std::filesystem::create_directories(outDir);
-            writeTextFileAtomic(outDir / "validity.json", s.validity.dump(2) + "\n");
+            createOutputFolder(outDir);
+            writeTextFileAtomic(outDir / "validity.json", validityText(s.validity));
+            publishStagedOutputs();  // the reasons stay readable although the command fails
         }
         std::string msg = "the assembled scene failed its validity checks";
         if (s.validity.contains("water") && !s.validity["water"]["valid"].get<bool>())
@@ -325,7 +365,7 @@ AssembledScene buildScene(const std::filesystem::path& sceneYaml, const std::fil
         s.seconds.write = since(t);
         // Record the write time too (validity.json is rewritten with the final figures).
         s.validity["seconds"] = s.seconds.toJson();
-        writeTextFileAtomic(outDir / "validity.json", s.validity.dump(2) + "\n");
+        writeTextFileAtomic(outDir / "validity.json", validityText(s.validity));
     }
     return s;
 }

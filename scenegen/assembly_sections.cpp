@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "core/output_names.h"
 #include "core/units.h"
 
 namespace littoral::scenegen {
@@ -123,8 +124,11 @@ std::vector<ObjectSpec> parseObjects(const YamlNode& n) {
         o.expectKeys({"name", "mesh", "materials", "position_m", "latlon_deg", "heading_deg", "draft_m", "z_m", "scale"});
         ObjectSpec s;
         s.loc = o.loc();
-        s.name = o["name"].asString();
-        if (s.name.empty()) o["name"].fail("an object name must not be empty");
+        // The name becomes a file name (meshes/object_<name>.ply) and an IR mesh name beside "water"
+        // and "land".
+        s.name = o["name"].asOutputName("object");
+        if (s.name == "water" || s.name == "land")
+            o["name"].fail(fmt::format("'{}' is the name of a mesh Littoral builds itself; choose another", s.name));
         if (!names.insert(s.name).second) o["name"].fail(fmt::format("duplicate object name '{}'", s.name));
         s.mesh = o["mesh"].asExistingPath();
         const auto mats = o["materials"];
@@ -169,9 +173,7 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         s.loc = c.loc();
         s.index = static_cast<int>(c["index"].asInt(0, 65535));
         if (!indices.insert(s.index).second) c["index"].fail(fmt::format("class index {} is defined twice", s.index));
-        s.name = c["name"].asString();
-        if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
-            c["name"].fail("a class name must be non-empty and contain no path separators (it names a texture file)");
+        s.name = c["name"].asOutputName("texture class");  // it names textures/<name>.tif
         if (!names.insert(s.name).second) c["name"].fail(fmt::format("duplicate class name '{}'", s.name));
         s.reflectance = parseSpectrum(c["reflectance"], 0, 1, "(reflectance)");
         if (auto tx = c.optional("texture")) s.texture = tx->asExistingPath();

@@ -1,23 +1,23 @@
 #include "scenegen/mesh_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include <fmt/format.h>
-#include <OpenMesh/Core/IO/IOManager.hh>
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include "core/atomic_file.h"
 
 namespace littoral::scenegen {
 namespace {
-
-namespace OM = OpenMesh;
 
 std::string lowerExt(const std::filesystem::path& p) {
     std::string e = p.extension().string();
@@ -25,120 +25,340 @@ std::string lowerExt(const std::filesystem::path& p) {
     return e;
 }
 
-// An OpenMesh importer that records vertices and faces verbatim, without building topology, so
-// that defects survive loading. Everything except positions and faces is ignored.
-class SoupImporter final : public OM::IO::BaseImporter {
-public:
-    std::vector<Point3> points;
-    std::vector<std::vector<int>> faces;
+// One whitespace-separated word of a text line and its 1-based column.
+struct Token {
+    std::string_view text;
+    int column = 0;
+};
 
-    OM::VertexHandle add_vertex(const OM::Vec3f& p) override { return push(p[0], p[1], p[2]); }
-    OM::VertexHandle add_vertex(const OM::Vec3d& p) override { return push(p[0], p[1], p[2]); }
-    OM::VertexHandle add_vertex() override { return push(0, 0, 0); }
-    OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override { return OM::HalfedgeHandle(); }
-    OM::FaceHandle add_face(const VHandles& idx) override {
-        std::vector<int> f;
-        f.reserve(idx.size());
-        for (const auto& v : idx) f.push_back(v.idx());
-        faces.push_back(std::move(f));
-        return OM::FaceHandle(static_cast<int>(faces.size()) - 1);
+// Lines of a text file with their numbers; '#' starts a comment (OBJ, OFF).
+class TextLines {
+public:
+    TextLines(std::string_view data, const std::string& file, bool comments)
+        : d_(data), file_(file), comments_(comments) {}
+
+    // The next line that holds at least one token; false at the end of the data.
+    bool next(std::vector<Token>* tokens) {
+        while (pos_ < d_.size()) {
+            const size_t nl = d_.find('\n', pos_);
+            const size_t end = nl == std::string_view::npos ? d_.size() : nl;
+            std::string_view line = d_.substr(pos_, end - pos_);
+            pos_ = end + 1;
+            ++line_;
+            if (comments_) {
+                const size_t c = line.find('#');
+                if (c != std::string_view::npos) line = line.substr(0, c);
+            }
+            tokens->clear();
+            size_t i = 0;
+            while (i < line.size()) {
+                while (i < line.size() && isBlank(line[i])) ++i;
+                size_t j = i;
+                while (j < line.size() && !isBlank(line[j])) ++j;
+                if (j > i) tokens->push_back({line.substr(i, j - i), static_cast<int>(std::min<size_t>(i, 1u << 30)) + 1});
+                i = j;
+            }
+            if (!tokens->empty()) return true;
+        }
+        return false;
     }
-    OM::FaceHandle add_face(OM::HalfedgeHandle) override { return OM::FaceHandle(); }
-    void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec2f>&) override {}
-    void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec3f>&) override {}
-    void set_face_texindex(OM::FaceHandle, int) override {}
-    void set_point(OM::VertexHandle v, const OM::Vec3f& p) override {
-        if (v.idx() >= 0 && static_cast<size_t>(v.idx()) < points.size()) points[v.idx()] = {p[0], p[1], p[2]};
+    int line() const { return line_; }
+    size_t remainingBytes() const { return pos_ < d_.size() ? d_.size() - pos_ : 0; }
+    [[noreturn]] void fail(int column, const std::string& msg) const {
+        throw MeshReadError(SourceLoc{file_, line_, column}, msg);
     }
-    void set_halfedge(OM::VertexHandle, OM::HalfedgeHandle) override {}
-    void set_normal(OM::VertexHandle, const OM::Vec3f&) override {}
-    void set_normal(OM::VertexHandle, const OM::Vec3d&) override {}
-    void set_color(OM::VertexHandle, const OM::Vec3uc&) override {}
-    void set_color(OM::VertexHandle, const OM::Vec4uc&) override {}
-    void set_color(OM::VertexHandle, const OM::Vec3f&) override {}
-    void set_color(OM::VertexHandle, const OM::Vec4f&) override {}
-    void set_texcoord(OM::VertexHandle, const OM::Vec2f&) override {}
-    void set_status(OM::VertexHandle, const OM::Attributes::StatusInfo&) override {}
-    void set_next(OM::HalfedgeHandle, OM::HalfedgeHandle) override {}
-    void set_face(OM::HalfedgeHandle, OM::FaceHandle) override {}
-    void request_face_texcoords2D() override {}
-    void set_texcoord(OM::HalfedgeHandle, const OM::Vec2f&) override {}
-    void set_texcoord(OM::VertexHandle, const OM::Vec3f&) override {}
-    void set_texcoord(OM::HalfedgeHandle, const OM::Vec3f&) override {}
-    void set_status(OM::HalfedgeHandle, const OM::Attributes::StatusInfo&) override {}
-    void set_color(OM::EdgeHandle, const OM::Vec3uc&) override {}
-    void set_color(OM::EdgeHandle, const OM::Vec4uc&) override {}
-    void set_color(OM::EdgeHandle, const OM::Vec3f&) override {}
-    void set_color(OM::EdgeHandle, const OM::Vec4f&) override {}
-    void set_status(OM::EdgeHandle, const OM::Attributes::StatusInfo&) override {}
-    void set_normal(OM::FaceHandle, const OM::Vec3f&) override {}
-    void set_normal(OM::FaceHandle, const OM::Vec3d&) override {}
-    void set_color(OM::FaceHandle, const OM::Vec3uc&) override {}
-    void set_color(OM::FaceHandle, const OM::Vec4uc&) override {}
-    void set_color(OM::FaceHandle, const OM::Vec3f&) override {}
-    void set_color(OM::FaceHandle, const OM::Vec4f&) override {}
-    void set_status(OM::FaceHandle, const OM::Attributes::StatusInfo&) override {}
-    void add_texture_information(int, std::string) override {}
-    size_t n_vertices() const override { return points.size(); }
-    size_t n_faces() const override { return faces.size(); }
-    size_t n_edges() const override { return 0; }
+    // A decimal number filling the whole token. NaN, infinities and values beyond the double range
+    // (which strtod returns as +-HUGE_VAL = infinity) are numbers here: the caller decides.
+    double number(const Token& t, const char* what) const {
+        const std::string s(t.text);
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size())
+            fail(t.column, fmt::format("'{}' is not a number ({})", printable(t.text), what));
+        return v;
+    }
+    // A whole number filling the token, in [lo, hi].
+    long long integer(const Token& t, long long lo, long long hi, const char* what) const {
+        const std::string s(t.text);
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(s.c_str(), &end, 10);
+        if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE)
+            fail(t.column, fmt::format("'{}' is not a whole number ({})", printable(t.text), what));
+        if (v < lo || v > hi) fail(t.column, fmt::format("{} is {}; allowed {} to {}", what, v, lo, hi));
+        return v;
+    }
+    static std::string printable(std::string_view s) {
+        std::string out;
+        for (size_t i = 0; i < s.size() && i < 40; ++i) {
+            const unsigned char c = static_cast<unsigned char>(s[i]);
+            out += (c >= 0x20 && c < 0x7f) ? std::string(1, static_cast<char>(c)) : fmt::format("\\x{:02x}", c);
+        }
+        if (s.size() > 40) out += "...";
+        return out;
+    }
 
 private:
-    OM::VertexHandle push(double x, double y, double z) {
-        points.push_back({x, y, z});
-        return OM::VertexHandle(static_cast<int>(points.size()) - 1);
+    static bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+    std::string_view d_;
+    const std::string& file_;
+    bool comments_;
+    size_t pos_ = 0;
+    int line_ = 0;
+};
+
+void addPolygon(TriMesh& m, const std::vector<uint32_t>& f) {
+    for (size_t k = 1; k + 1 < f.size(); ++k) m.triangles.push_back({f[0], f[k], f[k + 1]});
+}
+
+constexpr long long kMaxVertices = std::numeric_limits<uint32_t>::max();
+constexpr size_t kMaxCorners = 1000;  // corners of one polygon
+
+// ---------------------------------------------------------------------------------------- OBJ
+// Wavefront OBJ (geometry statements of the 3.0 specification). Only v and f build the mesh; the
+// other statements of the specification are accepted and ignored; anything else is an error.
+
+bool objIgnored(std::string_view k) {
+    static const char* kIgnored[] = {"vt", "vn", "vp", "g", "o", "s", "usemtl", "mtllib", "l", "p", "cstype", "deg",
+                                     "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
+                                     "end", "con", "mg", "bevel", "c_interp", "d_interp", "lod", "usemap", "maplib",
+                                     "shadow_obj", "trace_obj", "ctech", "stech", "call", "csh"};
+    for (const char* s : kIgnored)
+        if (k == s) return true;
+    return false;
+}
+
+TriMesh parseObj(std::string_view data, const std::string& file) {
+    TriMesh m;
+    TextLines in(data, file, true);
+    std::vector<Token> t;
+    std::vector<uint32_t> face;
+    struct PendingIndex { int line, column; long long index; };
+    std::vector<std::pair<size_t, PendingIndex>> absolute;  // triangle corner -> index to check at the end
+    while (in.next(&t)) {
+        const std::string_view key = t[0].text;
+        if (key == "v") {
+            // x y z, optionally w or a vertex colour (r g b): 3, 4, 6 or 7 numbers.
+            const size_t n = t.size() - 1;
+            if (n != 3 && n != 4 && n != 6 && n != 7)
+                in.fail(t[0].column, fmt::format("a vertex needs x y z (optionally w, or r g b); found {} value(s)", n));
+            for (size_t k = 4; k < t.size(); ++k) in.number(t[k], "vertex");
+            if (static_cast<long long>(m.positions.size()) >= kMaxVertices) in.fail(1, "more than 2^32 - 1 vertices");
+            m.positions.push_back({in.number(t[1], "vertex x"), in.number(t[2], "vertex y"), in.number(t[3], "vertex z")});
+        } else if (key == "f" || key == "fo") {
+            if (t.size() < 4) in.fail(t[0].column, fmt::format("a face needs at least 3 corners; found {}", t.size() - 1));
+            if (t.size() - 1 > kMaxCorners) in.fail(t[0].column, fmt::format("a face has more than {} corners", kMaxCorners));
+            face.clear();
+            std::vector<PendingIndex> pending;
+            for (size_t k = 1; k < t.size(); ++k) {
+                // v, v/vt, v//vn or v/vt/vn: the vertex index is the part before the first '/'.
+                const std::string_view corner = t[k].text;
+                const Token vtok{corner.substr(0, corner.find('/')), t[k].column};
+                const long long idx = in.integer(vtok, -kMaxVertices, kMaxVertices, "a face's vertex index");
+                if (idx == 0) in.fail(t[k].column, "vertex index 0: OBJ numbers vertices from 1 (negative = relative)");
+                long long v;
+                if (idx < 0) {
+                    // Relative: -1 is the most recent vertex.
+                    v = static_cast<long long>(m.positions.size()) + idx;
+                    if (v < 0)
+                        in.fail(t[k].column, fmt::format("relative vertex index {} reaches before the first vertex "
+                                                         "(only {} defined so far)",
+                                                         idx, m.positions.size()));
+                } else {
+                    v = idx - 1;
+                    pending.push_back({in.line(), t[k].column, idx});
+                }
+                face.push_back(static_cast<uint32_t>(v));
+            }
+            const size_t first = m.triangles.size();
+            addPolygon(m, face);
+            // Absolute indices may name vertices defined later in the file; check them at the end.
+            for (const auto& p : pending) absolute.push_back({first, p});
+        } else if (!objIgnored(key)) {
+            in.fail(t[0].column, fmt::format("'{}' is not an OBJ statement (expected v, f, vt, vn, g, o, usemtl, ...): "
+                                             "not an OBJ file, or a damaged one",
+                                             TextLines::printable(key)));
+        }
+    }
+    for (const auto& [tri, p] : absolute)
+        if (p.index > static_cast<long long>(m.positions.size()))
+            throw MeshReadError(SourceLoc{file, p.line, p.column},
+                                fmt::format("face refers to vertex {}, but the file defines only {} vertices", p.index,
+                                            m.positions.size()));
+    return m;
+}
+
+// ---------------------------------------------------------------------------------------- OFF
+// Object File Format: optional "OFF" keyword (with the ST / C / N prefixes: texture coordinates,
+// colours and normals after each vertex's x y z, ignored here), then "nv nf ne", nv vertex lines,
+// nf face lines "n i1 ... in [colour]". 4OFF / nOFF (other dimensions) and binary OFF are refused.
+
+TriMesh parseOff(std::string_view data, const std::string& file) {
+    TextLines in(data, file, true);
+    std::vector<Token> t;
+    if (!in.next(&t)) throw MeshReadError(SourceLoc{file}, "OFF file holds no header (only blank lines or comments)");
+    const std::string_view kw = t[0].text;
+    if (kw.size() >= 3 && kw.substr(kw.size() - 3) == "OFF") {
+        std::string_view prefix = kw.substr(0, kw.size() - 3);
+        for (const char* p : {"ST", "C", "N"})
+            if (prefix.substr(0, std::strlen(p)) == p) prefix.remove_prefix(std::strlen(p));
+        if (!prefix.empty())
+            in.fail(t[0].column, fmt::format("'{}' files are not supported (only 3-D OFF with ST, C or N prefixes)",
+                                             TextLines::printable(kw)));
+        if (t.size() > 1 && t[1].text == "BINARY") in.fail(t[1].column, "binary OFF is not supported; use ascii OFF");
+        if (t.size() > 1) t.erase(t.begin());  // counts on the keyword's line
+        else if (!in.next(&t)) throw MeshReadError(SourceLoc{file}, "OFF file ends after its keyword");
+    }
+    if (t.size() < 2 || t.size() > 3)
+        in.fail(t[0].column, "expected the counts line 'vertices faces [edges]'");
+    const long long nv = in.integer(t[0], 0, kMaxVertices, "the vertex count");
+    const long long nf = in.integer(t[1], 0, std::numeric_limits<int32_t>::max(), "the face count");
+    if (t.size() == 3) in.integer(t[2], 0, std::numeric_limits<int64_t>::max(), "the edge count");
+    // A vertex line holds at least "x y z\n" (6 bytes), a face line "3 a b c\n" (8 bytes).
+    // (The last line may lack its newline, hence one byte of slack.)
+    const double needed = double(nv) * 6.0 + double(nf) * 8.0;
+    if (needed > double(in.remainingBytes()) + 1.0)
+        in.fail(t[0].column, fmt::format("the header declares {} vertices and {} faces, which need at least {:.0f} bytes "
+                                         "of lines, but only {} bytes follow: truncated or corrupt",
+                                         nv, nf, needed, in.remainingBytes()));
+    TriMesh m;
+    m.positions.reserve(static_cast<size_t>(nv));
+    for (long long i = 0; i < nv; ++i) {
+        if (!in.next(&t))
+            throw MeshReadError(SourceLoc{file, in.line(), 0},
+                                fmt::format("the file ends after {} of the {} vertices its header declares (truncated)", i, nv));
+        if (t.size() < 3) in.fail(t[0].column, fmt::format("vertex {} needs x y z; found {} value(s)", i, t.size()));
+        for (size_t k = 3; k < t.size(); ++k) in.number(t[k], "vertex attribute");
+        m.positions.push_back({in.number(t[0], "vertex x"), in.number(t[1], "vertex y"), in.number(t[2], "vertex z")});
+    }
+    std::vector<uint32_t> face;
+    for (long long i = 0; i < nf; ++i) {
+        if (!in.next(&t))
+            throw MeshReadError(SourceLoc{file, in.line(), 0},
+                                fmt::format("the file ends after {} of the {} faces its header declares (truncated)", i, nf));
+        const long long n = in.integer(t[0], 3, static_cast<long long>(kMaxCorners), "a face's corner count");
+        if (static_cast<long long>(t.size()) - 1 < n)
+            in.fail(t[0].column, fmt::format("face {} declares {} corners but lists {}", i, n, t.size() - 1));
+        face.clear();
+        for (long long k = 1; k <= n; ++k) {
+            const long long v = in.integer(t[k], 0, kMaxVertices, "a vertex index");
+            if (v >= nv)
+                in.fail(t[k].column, fmt::format("face {} refers to vertex {}, but there are {} vertices (numbered from 0)",
+                                                 i, v, nv));
+            face.push_back(static_cast<uint32_t>(v));
+        }
+        for (size_t k = static_cast<size_t>(n) + 1; k < t.size(); ++k) in.number(t[k], "face colour");
+        addPolygon(m, face);
+    }
+    if (in.next(&t))
+        in.fail(t[0].column, fmt::format("data after the {} vertices and {} faces the header declares (wrong counts?)",
+                                         nv, nf));
+    return m;
+}
+
+// ---------------------------------------------------------------------------------------- STL
+// Binary: 80-byte header, uint32 triangle count n, then n records of 50 bytes (normal, three
+// vertices as float32, a 16-bit attribute); the file size must be exactly 84 + 50 n. ASCII:
+// solid / facet normal / outer loop / 3 x vertex / endloop / endfacet ... endsolid.
+
+// Coincident corners become one vertex (bit-exact equality; each NaN corner stays its own vertex).
+struct VertexMerger {
+    TriMesh& m;
+    std::map<std::array<double, 3>, uint32_t> index;
+    uint32_t add(double x, double y, double z) {
+        if (std::isnan(x) || std::isnan(y) || std::isnan(z)) {
+            m.positions.push_back({x, y, z});
+            return static_cast<uint32_t>(m.positions.size() - 1);
+        }
+        auto [it, inserted] = index.try_emplace({x, y, z}, static_cast<uint32_t>(m.positions.size()));
+        if (inserted) m.positions.push_back({x, y, z});
+        return it->second;
     }
 };
 
-// Element counts a text or PLY header declares (OFF: first line after the magic; PLY: "element
-// vertex N", "element face M"), so a truncated file is not mistaken for a smaller mesh. -1 = unknown.
-std::pair<long long, long long> declaredCounts(const std::filesystem::path& path, const std::string& ext) {
-    std::ifstream f(path, std::ios::binary);
-    std::string line;
-    if (ext == ".off") {
-        while (std::getline(f, line)) {
-            const auto c = line.find('#');
-            if (c != std::string::npos) line.resize(c);
-            std::istringstream ls(line);
-            std::string first;
-            if (!(ls >> first)) continue;
-            if (first.find("OFF") != std::string::npos) {
-                long long nv, nf;
-                if (ls >> nv >> nf) return {nv, nf};
-                continue;
-            }
-            long long nv = std::stoll(first), nf;
-            if (ls >> nf) return {nv, nf};
-            return {-1, -1};
-        }
-    } else if (ext == ".ply") {
-        long long nv = -1, nf = -1;
-        for (int n = 0; n < 200 && std::getline(f, line); ++n) {
-            if (line.rfind("end_header", 0) == 0) break;
-            std::istringstream ls(line);
-            std::string kw, name;
-            long long count;
-            if (ls >> kw >> name >> count && kw == "element") {
-                if (name == "vertex") nv = count;
-                if (name == "face") nf = count;
-            }
-        }
-        return {nv, nf};
+TriMesh parseStlBinary(std::string_view data, const std::string& file) {
+    uint32_t n = 0;
+    std::memcpy(&n, data.data() + 80, 4);
+    const double expected = 84.0 + 50.0 * n;
+    if (static_cast<double>(data.size()) != expected)
+        throw MeshReadError(SourceLoc{file}, fmt::format("binary STL header declares {} triangles, which take {:.0f} "
+                                                         "bytes, but the file has {} bytes: truncated or corrupt",
+                                                         n, expected, data.size()));
+    TriMesh m;
+    VertexMerger merge{m, {}};
+    const char* p = data.data() + 84;
+    for (uint32_t i = 0; i < n; ++i, p += 50) {
+        float v[12];
+        std::memcpy(v, p, 48);
+        std::array<uint32_t, 3> tri{};
+        for (int k = 0; k < 3; ++k) tri[k] = merge.add(v[3 + 3 * k], v[4 + 3 * k], v[5 + 3 * k]);
+        m.triangles.push_back(tri);
     }
-    return {-1, -1};
+    return m;
 }
 
-// True if a PLY header declares the face "material" property written by core writePly.
-bool plyHasMaterial(const std::filesystem::path& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::string line;
-    bool inFace = false;
-    for (int n = 0; n < 200 && std::getline(f, line); ++n) {
-        if (line.rfind("end_header", 0) == 0) return false;
-        if (line.rfind("element", 0) == 0) inFace = line.find(" face ") != std::string::npos;
-        if (inFace && line.rfind("property", 0) == 0 && line.find(" material") != std::string::npos) return true;
+TriMesh parseStlAscii(std::string_view data, const std::string& file) {
+    TextLines in(data, file, false);
+    std::vector<Token> t;
+    TriMesh m;
+    VertexMerger merge{m, {}};
+    auto expect = [&](std::initializer_list<const char*> words, const char* what) {
+        if (!in.next(&t)) throw MeshReadError(SourceLoc{file, in.line(), 0}, fmt::format("the file ends where {} was expected (truncated)", what));
+        size_t k = 0;
+        for (const char* w : words) {
+            if (k >= t.size() || t[k].text != w)
+                in.fail(k < t.size() ? t[k].column : 1, fmt::format("expected {}", what));
+            ++k;
+        }
+    };
+    bool inSolid = false;
+    while (in.next(&t)) {
+        const std::string_view k = t[0].text;
+        if (k == "solid") {
+            if (inSolid) in.fail(t[0].column, "'solid' inside a solid (missing 'endsolid')");
+            inSolid = true;
+        } else if (k == "endsolid") {
+            if (!inSolid) in.fail(t[0].column, "'endsolid' without 'solid'");
+            inSolid = false;
+        } else if (k == "facet") {
+            if (!inSolid) in.fail(t[0].column, "'facet' outside 'solid ... endsolid'");
+            if (t.size() != 5 || t[1].text != "normal") in.fail(t[0].column, "expected 'facet normal nx ny nz'");
+            for (int c = 2; c < 5; ++c) in.number(t[c], "facet normal");
+            expect({"outer", "loop"}, "'outer loop'");
+            std::array<uint32_t, 3> tri{};
+            for (int c = 0; c < 3; ++c) {
+                expect({"vertex"}, "'vertex x y z' (a facet has exactly 3 vertices)");
+                if (t.size() != 4) in.fail(t[0].column, "expected 'vertex x y z'");
+                tri[c] = merge.add(in.number(t[1], "vertex x"), in.number(t[2], "vertex y"), in.number(t[3], "vertex z"));
+            }
+            expect({"endloop"}, "'endloop' (a facet has exactly 3 vertices)");
+            expect({"endfacet"}, "'endfacet'");
+            m.triangles.push_back(tri);
+        } else {
+            in.fail(t[0].column, fmt::format("'{}' is not an STL keyword (expected solid, facet or endsolid): not an "
+                                             "STL file, or a damaged one",
+                                             TextLines::printable(k)));
+        }
     }
-    return false;
+    if (inSolid) throw MeshReadError(SourceLoc{file, in.line(), 0}, "the file ends inside a solid (no 'endsolid'; truncated)");
+    return m;
+}
+
+TriMesh parseStl(std::string_view data, const std::string& file) {
+    // A binary file whose size matches its count is binary even if its header begins with "solid"
+    // (many exporters write that); otherwise text starting with "solid" is ascii.
+    if (data.size() >= 84) {
+        uint32_t n = 0;
+        std::memcpy(&n, data.data() + 80, 4);
+        if (static_cast<double>(data.size()) == 84.0 + 50.0 * n) return parseStlBinary(data, file);
+    }
+    size_t i = 0;
+    while (i < data.size() && std::isspace(static_cast<unsigned char>(data[i]))) ++i;
+    if (data.substr(i, 5) == "solid") return parseStlAscii(data, file);
+    if (data.size() >= 84) return parseStlBinary(data, file);  // reports the size mismatch
+    throw MeshReadError(SourceLoc{file}, fmt::format("not an STL file: {} bytes, neither ascii ('solid ...') nor a binary "
+                                                     "STL (at least 84 bytes)",
+                                                     data.size()));
 }
 
 }  // namespace
@@ -148,68 +368,44 @@ bool isSupportedMeshExtension(const std::filesystem::path& path) {
     return e == ".obj" || e == ".ply" || e == ".off" || e == ".stl";
 }
 
+TriMesh parseMeshData(std::string_view data, MeshFormat format, const std::string& file) {
+    if (data.empty()) throw MeshReadError(SourceLoc{file}, "file is empty (0 bytes)");
+    switch (format) {
+        case MeshFormat::Obj: return parseObj(data, file);
+        case MeshFormat::Off: return parseOff(data, file);
+        case MeshFormat::Stl: return parseStl(data, file);
+        case MeshFormat::Ply:
+            try {
+                PlyReadOptions po;
+                po.allowNonFinite = true;
+                return parsePly(data, file, po);
+            } catch (const MeshReadError&) {
+                throw;
+            } catch (const InputError& e) {
+                throw MeshReadError(e.where(), e.message());
+            }
+    }
+    throw InternalError("unknown mesh format");
+}
+
 TriMesh readMeshFile(const std::filesystem::path& path) {
     const SourceLoc where{path.string()};
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        throw MeshReadError(where, "mesh file does not exist");
-    if (std::filesystem::is_directory(path, ec))
-        throw MeshReadError(where, "is a directory, not a mesh file");
-    if (!isSupportedMeshExtension(path))
-        throw MeshReadError(where, fmt::format("unsupported mesh extension '{}'; allowed: .obj, .ply, .off, .stl",
-                                               path.extension().string()));
-    const auto size = std::filesystem::file_size(path, ec);
-    if (ec) throw MeshReadError(where, "cannot read file size: " + ec.message());
-    if (size == 0) throw MeshReadError(where, "file is empty (0 bytes)");
-    {
-        std::ifstream probe(path, std::ios::binary);
-        if (!probe) throw MeshReadError(where, "cannot open file for reading");
-    }
-
-    if (lowerExt(path) == ".ply" && plyHasMaterial(path)) {
-        try {
-            return readPly(path);
-        } catch (const InputError& e) {
-            throw MeshReadError(e.where(), e.message());
-        }
-    }
-
-    SoupImporter soup;
-    OM::IO::Options opt;
-    // OpenMesh writes its diagnostics to omerr/omlog; keep stderr for our own messages.
-    omerr().disable();
-    omlog().disable();
-    const bool ok = OM::IO::IOManager().read(path.string(), soup, opt);
-    omerr().enable();
-    omlog().enable();
-    if (!ok) throw MeshReadError(where, "OpenMesh could not parse the file as " + lowerExt(path).substr(1) + " mesh data");
-
+    std::string data;
     try {
-        const auto [nv, nf] = declaredCounts(path, lowerExt(path));
-        if ((nv >= 0 && static_cast<size_t>(nv) != soup.points.size()) ||
-            (nf >= 0 && static_cast<size_t>(nf) != soup.faces.size()))
-            throw MeshReadError(where, fmt::format("the header declares {} vertices and {} faces but the file holds {} "
-                                                   "and {} (truncated or malformed)",
-                                                   nv, nf, soup.points.size(), soup.faces.size()));
-    } catch (const std::invalid_argument&) {
-        throw MeshReadError(where, "malformed OFF header");
-    } catch (const std::out_of_range&) {
-        throw MeshReadError(where, "malformed OFF header");
+        requireRegularInputFile(path, "mesh file");
+        if (!isSupportedMeshExtension(path))
+            throw InputError(where, fmt::format("unsupported mesh extension '{}'; allowed: .obj, .ply, .off, .stl",
+                                                path.extension().string()));
+        data = readTextFile(path);
+    } catch (const MeshReadError&) {
+        throw;
+    } catch (const InputError& e) {
+        throw MeshReadError(e.where(), e.message());
     }
-    TriMesh m;
-    m.positions = std::move(soup.points);
-    const auto nv = static_cast<int>(m.positions.size());
-    for (size_t fi = 0; fi < soup.faces.size(); ++fi) {
-        const auto& f = soup.faces[fi];
-        if (f.size() < 3) throw MeshReadError(where, fmt::format("face {} has {} vertices; at least 3 needed", fi, f.size()));
-        for (int v : f)
-            if (v < 0 || v >= nv)
-                throw MeshReadError(where, fmt::format("face {} refers to vertex {}, but there are {} vertices", fi, v, nv));
-        // Fan triangulation of polygons (exact for the convex quads and n-gons exporters write).
-        for (size_t k = 1; k + 1 < f.size(); ++k)
-            m.triangles.push_back({static_cast<uint32_t>(f[0]), static_cast<uint32_t>(f[k]), static_cast<uint32_t>(f[k + 1])});
-    }
-    return m;
+    const std::string e = lowerExt(path);
+    const MeshFormat f = e == ".obj" ? MeshFormat::Obj : e == ".ply" ? MeshFormat::Ply : e == ".off" ? MeshFormat::Off
+                                                                                                   : MeshFormat::Stl;
+    return parseMeshData(data, f, path.string());
 }
 
 void writeMeshFile(const std::filesystem::path& path, const TriMesh& mesh) {

@@ -10,6 +10,8 @@
 #include <unordered_map>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -61,6 +63,73 @@ std::string listHead(const std::vector<T>& v, size_t maxListed, const std::funct
 
 std::string edgeStr(const EdgeKey& e) { return fmt::format("({}, {})", e[0], e[1]); }
 
+// Do two faces that share `shared` vertex indices meet anywhere other than at what they share?
+// Exact predicates throughout (Epick).
+//   0 shared: the triangles intersect at all.
+//   1 shared vertex v, A = (v, a1, a2), B = (v, b1, b2): A n B is convex and holds v; if it holds
+//     another point p, walk from v toward p: the walk leaves one triangle first, through its edge
+//     opposite v, at a point inside the other. So: segment a1a2 meets B, or segment b1b2 meets A.
+//   2 shared (an edge ab, third corners c and d): two non-degenerate triangles on an edge meet only
+//     along it unless they are coplanar with c and d on the same side of ab (folded onto each
+//     other).
+//   3 shared: the same face twice.
+// This holds however many faces share the edge or vertex, so a non-manifold edge (a fin on a
+// closed box) is not mistaken for intersecting faces.
+bool facesIntersect(const TriMesh& m, const std::array<uint32_t, 3>& ta, const std::array<uint32_t, 3>& tb) {
+    auto P = [&](uint32_t i) { return toC(m.positions[i]); };
+    std::vector<uint32_t> shared;
+    for (uint32_t a : ta)
+        if (std::find(tb.begin(), tb.end(), a) != tb.end()) shared.push_back(a);
+    auto others = [&](const std::array<uint32_t, 3>& t) {
+        std::vector<uint32_t> o;
+        for (uint32_t v : t)
+            if (std::find(shared.begin(), shared.end(), v) == shared.end()) o.push_back(v);
+        return o;
+    };
+    const K::Triangle_3 A(P(ta[0]), P(ta[1]), P(ta[2])), B(P(tb[0]), P(tb[1]), P(tb[2]));
+    switch (shared.size()) {
+        case 0: return CGAL::do_intersect(A, B);
+        case 1: {
+            const auto oa = others(ta), ob = others(tb);
+            return CGAL::do_intersect(K::Segment_3(P(oa[0]), P(oa[1])), B) ||
+                   CGAL::do_intersect(K::Segment_3(P(ob[0]), P(ob[1])), A);
+        }
+        case 2: {
+            const uint32_t c = others(ta)[0], d = others(tb)[0];
+            const CPoint a = P(shared[0]), b = P(shared[1]);
+            return CGAL::orientation(a, b, P(c), P(d)) == CGAL::COPLANAR &&
+                   CGAL::coplanar_orientation(a, b, P(c), P(d)) == CGAL::POSITIVE;
+        }
+        default: return true;
+    }
+}
+
+// Self-intersecting face pairs of a triangle soup (faces with `skip` set are left out): candidate
+// pairs from overlapping bounding boxes (CGAL box_self_intersection_d), then facesIntersect.
+// Working on the soup's own vertex indices keeps the adjacency that a half-edge mesh would lose at
+// non-manifold edges and vertices.
+std::vector<FacePair> soupSelfIntersections(const TriMesh& m, const std::vector<char>& skip) {
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, uint32_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
+    std::vector<Box> boxes;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+        if (skip[f]) continue;
+        const auto& t = m.triangles[f];
+        const CGAL::Bbox_3 b = toC(m.positions[t[0]]).bbox() + toC(m.positions[t[1]]).bbox() + toC(m.positions[t[2]]).bbox();
+        boxes.emplace_back(b, static_cast<uint32_t>(f));
+    }
+    std::vector<FacePair> out;
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+        uint32_t fa = a.info(), fb = b.info();
+        if (facesIntersect(m, m.triangles[fa], m.triangles[fb])) {
+            if (fa > fb) std::swap(fa, fb);
+            out.push_back({fa, fb});
+        }
+    });
+    std::sort(out.begin(), out.end(), [](const FacePair& x, const FacePair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 }  // namespace
 
 bool ValidityReport::valid() const {
@@ -75,8 +144,9 @@ std::vector<std::string> ValidityReport::reasons(size_t n) const {
     const std::function<std::string(const EdgeKey&)> edge = edgeStr;
     if (empty) r.push_back("mesh is empty: it has no faces");
     if (!nonFiniteVertices.empty())
-        r.push_back(fmt::format("{} vertices have NaN or infinite coordinates: vertex {}", nonFiniteVertices.size(),
-                                listHead(nonFiniteVertices, n, idx)));
+        r.push_back(fmt::format("{} vertices have NaN or infinite coordinates: vertex {} (a number beyond the range "
+                                "of a double, such as 1e400, reads as infinite)",
+                                nonFiniteVertices.size(), listHead(nonFiniteVertices, n, idx)));
     if (!badIndexFaces.empty())
         r.push_back(fmt::format("{} faces refer to vertices that do not exist: face {}", badIndexFaces.size(),
                                 listHead(badIndexFaces, n, idx)));
@@ -107,8 +177,7 @@ std::vector<std::string> ValidityReport::reasons(size_t n) const {
         r.push_back(fmt::format("self-intersecting: {} face pairs intersect: faces {}", selfIntersections.size(),
                                 listHead(selfIntersections, n, pair)));
     } else if (!selfIntersectionTested && !empty) {
-        r.push_back("self-intersection test not run or incomplete (non-finite vertices, invalid indices, or faces that "
-                    "could not be inserted even after orienting the soup)");
+        r.push_back("self-intersection test not run (it needs finite vertices and valid indices)");
     }
     if (!empty && nonFiniteVertices.empty() && closed && manifold && consistentlyOriented && selfIntersections.empty() &&
         selfIntersectionTested && !boundsVolume)
@@ -142,7 +211,7 @@ nlohmann::json ValidityReport::toJson(size_t n) const {
     j["self_intersecting_pairs"] = si;
     j["bounds_volume"] = boundsVolume;
     j["outward"] = outward;
-    j["volume_m3"] = volume;
+    j["volume_m3"] = boundsVolume ? nlohmann::json(volume) : nlohmann::json(nullptr);  // only for a closed volume
     j["area_m2"] = area;
     j["boundary_edges"] = boundaryEdges.size();
     j["boundary_edge_list"] = head(boundaryEdges);
@@ -287,72 +356,39 @@ ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
     rep.closed = !rep.empty && rep.boundaryEdges.empty() && rep.badIndexFaces.empty();
     rep.manifold = !rep.empty && rep.nonManifoldEdges.empty() && rep.nonManifoldVertices.empty();
     rep.consistentlyOriented = !rep.empty && rep.inconsistentEdges.empty();
-    if (rep.badIndexFaces.empty() && rep.nonFiniteVertices.empty()) rep.volume = mesh.signedVolume();
 
     // ---- geometry through CGAL ----
     if (rep.empty || !rep.nonFiniteVertices.empty() || !rep.badIndexFaces.empty()) return rep;
 
-    // Polygon soup of the non-degenerate faces; soupFace[i] = original face index.
-    std::vector<CPoint> pts;
-    pts.reserve(nv);
-    for (const auto& p : mesh.positions) pts.push_back(toC(p));
-    std::vector<std::array<size_t, 3>> polys;
-    std::vector<uint32_t> soupFace;
-    {
-        std::vector<char> degenerate(nf, 0);
-        for (uint32_t f : rep.degenerateFaces) degenerate[f] = 1;
-        for (size_t f = 0; f < nf; ++f) {
-            if (degenerate[f]) continue;
-            const auto& t = mesh.triangles[f];
-            polys.push_back({t[0], t[1], t[2]});
-            soupFace.push_back(static_cast<uint32_t>(f));
-        }
-    }
-    const bool topologyClean = rep.manifold && rep.consistentlyOriented;
-    if (!topologyClean) {
-        // Duplicates vertices at non-manifold spots and flips faces to a consistent orientation;
-        // polygon order is preserved, so face indices still map through soupFace.
-        PMP::orient_polygon_soup(pts, polys);
-    }
-    SMesh sm;
-    // Only vertices that faces use: CGAL's volume tests assume no isolated vertices.
-    std::vector<SMesh::Vertex_index> vmap(pts.size(), SMesh::null_vertex());
-    for (const auto& p : polys)
-        for (size_t i : p)
-            if (vmap[i] == SMesh::null_vertex()) vmap[i] = sm.add_vertex(pts[i]);
-    std::vector<uint32_t> smFaceToOriginal;
-    smFaceToOriginal.reserve(polys.size());
-    size_t notInserted = 0;
-    for (size_t i = 0; i < polys.size(); ++i) {
-        const auto fh = sm.add_face(vmap[polys[i][0]], vmap[polys[i][1]], vmap[polys[i][2]]);
-        if (fh == SMesh::null_face()) {
-            ++notInserted;
-            continue;
-        }
-        if (static_cast<size_t>(fh.idx()) >= smFaceToOriginal.size()) smFaceToOriginal.resize(fh.idx() + 1);
-        smFaceToOriginal[fh.idx()] = soupFace[i];
-    }
-
+    std::vector<char> degenerate(nf, 0);
+    for (uint32_t f : rep.degenerateFaces) degenerate[f] = 1;
     if (options.testSelfIntersections) {
-        std::vector<std::pair<SMesh::Face_index, SMesh::Face_index>> pairs;
-        PMP::self_intersections(faces(sm), sm, std::back_inserter(pairs));
-        for (const auto& [a, b] : pairs) {
-            uint32_t fa = smFaceToOriginal[a.idx()], fb = smFaceToOriginal[b.idx()];
-            if (fa > fb) std::swap(fa, fb);
-            rep.selfIntersections.push_back({fa, fb});
-        }
-        std::sort(rep.selfIntersections.begin(), rep.selfIntersections.end(),
-                  [](const FacePair& x, const FacePair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-        rep.selfIntersections.erase(std::unique(rep.selfIntersections.begin(), rep.selfIntersections.end()),
-                                    rep.selfIntersections.end());
-        rep.selfIntersectionTested = notInserted == 0;
+        rep.selfIntersections = soupSelfIntersections(mesh, degenerate);
+        rep.selfIntersectionTested = true;
     }
 
+    // Bounding a volume needs a clean surface: closed, manifold, consistently oriented, nothing
+    // degenerate or self-intersecting. Only then is the signed volume an enclosed volume.
+    const bool topologyClean = rep.manifold && rep.consistentlyOriented;
     if (rep.closed && topologyClean && rep.degenerateFaces.empty() && rep.selfIntersectionTested &&
         rep.selfIntersections.empty()) {
-        rep.boundsVolume = PMP::does_bound_a_volume(sm);
-        rep.outward = rep.boundsVolume && PMP::is_outward_oriented(sm) && rep.volume > 0.0;
+        SMesh sm;
+        // Only vertices that faces use: CGAL's volume tests assume no isolated vertices.
+        std::vector<SMesh::Vertex_index> vmap(nv, SMesh::null_vertex());
+        bool inserted = true;
+        for (const auto& t : mesh.triangles) {
+            for (uint32_t i : t)
+                if (vmap[i] == SMesh::null_vertex()) vmap[i] = sm.add_vertex(toC(mesh.positions[i]));
+            inserted = inserted && sm.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]) != SMesh::null_face();
+        }
+        if (inserted) {
+            rep.boundsVolume = PMP::does_bound_a_volume(sm);
+            rep.outward = rep.boundsVolume && PMP::is_outward_oriented(sm) && mesh.signedVolume() > 0.0;
+        }
     }
+    // A volume is reported only for a surface that encloses one; the divergence-theorem sum of an
+    // open or self-intersecting surface is a number without meaning.
+    rep.volume = rep.boundsVolume ? mesh.signedVolume() : 0.0;
     return rep;
 }
 

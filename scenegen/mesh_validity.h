@@ -7,7 +7,9 @@
 // checkMesh() works on the raw indexed triangles so that defects an half-edge structure cannot
 // even represent (a third face on an edge, a face wound against its neighbours) are named at the
 // element level; the geometric tests (self-intersections, volume bounding, outward orientation)
-// use CGAL Polygon Mesh Processing with exact predicates (Epick). repairMesh() is the explicit,
+// use exact predicates (Epick): self-intersections on the triangle soup itself (faces that share
+// only an edge or a vertex do not count, at manifold and non-manifold edges alike), volume
+// bounding and orientation through CGAL Polygon Mesh Processing. repairMesh() is the explicit,
 // opt-in fix-up: merge coincident vertices, drop degenerate faces, make orientation consistent,
 // stitch borders, orient every component to bound a volume; it reports each change.
 #include <array>
@@ -51,7 +53,7 @@ struct ValidityReport {
     bool consistentlyOriented = false;
     bool boundsVolume = false;     // CGAL does_bound_a_volume: closed, manifold, no self-intersection, nesting-consistent
     bool outward = false;          // orientation makes the enclosed volume positive
-    double volume = 0.0;           // signed enclosed volume, m^3 (divergence theorem)
+    double volume = 0.0;           // enclosed volume, m^3 (divergence theorem); 0 unless boundsVolume
     double area = 0.0;             // m^2
 
     // A closed volume that the renderer may trust.

@@ -2,19 +2,59 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "core/atomic_file.h"
+#include "core/output_names.h"
 #include "core/solar_position.h"
+#include "core/text_checks.h"
 #include "core/units.h"
 #include "scenegen/water_constituents.h"
 
 namespace littoral::scenegen {
 
 namespace fs = std::filesystem;
+
+Spectrum parseSpectrumCsv(std::string_view text, const std::string& file, double min, double max,
+                          std::string_view unit) {
+    requireUtf8(text, file);
+    std::vector<double> wl, val;
+    size_t pos = 0;
+    int lineNo = 0;
+    while (pos < text.size()) {
+        const size_t nl = text.find('\n', pos);
+        std::string line(text.substr(pos, (nl == std::string_view::npos ? text.size() : nl) - pos));
+        pos = nl == std::string_view::npos ? text.size() : nl + 1;
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (lineNo == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 byte-order mark
+        const size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream ls(line);
+        double w, v;
+        std::string rest;
+        if (!(ls >> w >> v) || (ls >> rest)) {
+            if (wl.empty() && lineNo == 1) continue;  // header row
+            throw InputError(SourceLoc{file, lineNo, 1}, "expected 'wavelength_um, value' (two numbers)");
+        }
+        if (!std::isfinite(w) || !(w >= 0.2 && w <= 20.0))
+            throw InputError(SourceLoc{file, lineNo, 1},
+                             fmt::format("wavelength {} um is out of range; allowed [0.2, 20] um", w));
+        if (!std::isfinite(v) || v < min || v > max)
+            throw InputError(SourceLoc{file, lineNo, 1},
+                             fmt::format("value {} is out of range; allowed [{}, {}] {}", v, min, max, unit));
+        wl.push_back(w);
+        val.push_back(v);
+    }
+    if (wl.empty())
+        throw InputError(SourceLoc{file}, "the file holds no 'wavelength_um, value' rows (it is empty, or only a "
+                                          "header and comments)");
+    return Spectrum::tabulated(wl, val, file);
+}
 
 // A spectrum in a scene file: a number (constant), a table
 // {wavelengths_um: [...], values: [...]}, or {file: name.csv} with "wavelength_um,value" rows.
@@ -25,29 +65,17 @@ Spectrum parseSpectrum(const YamlNode& n, double min, double max, std::string_vi
     if (auto f = n.optional("file")) {
         if (n.has("wavelengths_um") || n.has("values")) n.fail("give either 'file' or 'wavelengths_um' + 'values', not both");
         const fs::path p = f->asExistingPath();
-        std::ifstream in(p);
-        std::string line;
-        int lineNo = 0;
-        while (std::getline(in, line)) {
-            ++lineNo;
-            if (line.empty() || line[0] == '#') continue;
-            std::replace(line.begin(), line.end(), ',', ' ');
-            std::istringstream ls(line);
-            double w, v;
-            if (!(ls >> w >> v)) {
-                if (lineNo == 1) continue;  // header row
-                throw InputError(SourceLoc{p.string(), lineNo, 1}, "expected 'wavelength_um, value'");
-            }
-            if (v < min || v > max)
-                throw InputError(SourceLoc{p.string(), lineNo, 1},
-                                 fmt::format("value {} is out of range; allowed [{}, {}] {}", v, min, max, unit));
-            wl.push_back(w);
-            val.push_back(v);
+        std::string text;
+        try {
+            text = readTextFile(p);
+        } catch (const InputError& e) {
+            f->fail(fmt::format("cannot read '{}': {}", p.string(), e.message()));
         }
         try {
-            return Spectrum::tabulated(wl, val, p.string());
+            return parseSpectrumCsv(text, p.string(), min, max, unit);
         } catch (const InputError& e) {
-            f->fail(e.message());
+            if (e.where().line > 0) throw;  // located in the CSV file
+            f->fail(fmt::format("{}: {}", p.string(), e.message()));
         }
     }
     wl = n["wavelengths_um"].asDoubleList(0.2, 20.0, "um");
@@ -75,7 +103,7 @@ std::vector<double> parsePair(const YamlNode& n) {
 
 void parseSceneSection(const YamlNode& n, SceneSection* s) {
     n.expectKeys({"name", "origin", "domain"});
-    s->name = n.getString("name", s->name);
+    if (auto nm = n.optional("name")) s->name = nm->asOutputName("scene");
     if (auto o = n.optional("origin")) {
         o->expectKeys({"latitude", "longitude", "altitude"});
         GeoOrigin g;
@@ -136,7 +164,7 @@ SensorSection parseSensor(const YamlNode& n) {
     n.expectKeys(kSensorKeys);
     SensorSection s;
     s.loc = n.loc();
-    s.name = n["name"].asString();
+    s.name = n["name"].asOutputName("sensor");
     s.type = n["type"].asEnum({"frame", "pinhole", "orthographic"});
     s.width = static_cast<int>(n["width"].asInt(1, 20000));
     s.height = static_cast<int>(n["height"].asInt(1, 20000));
@@ -184,7 +212,8 @@ SensorSection parseSensor(const YamlNode& n) {
 ProbeSection parseProbe(const YamlNode& n) {
     n.expectKeys({"name", "position", "quantities", "medium", "samples"});
     ProbeSection p;
-    p.name = n["name"].asString();
+    p.loc = n.loc();
+    p.name = n["name"].asOutputName("probe");
     p.position = parseVec3(n["position"]);
     for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum({"Ed", "Eu", "Eod", "Eou", "Lu"}));
     if (p.quantities.empty()) n["quantities"].fail("list at least one of Ed, Eu, Eod, Eou, Lu");
@@ -433,6 +462,24 @@ void checkUniqueNames(const std::vector<T>& items, const char* what, const YamlN
             list.at(i).fail(fmt::format("{} name '{}' is used twice", what, items[i].name));
 }
 
+// Every sensor writes S.exr, S_truth.exr, ... (core/output_names.h): two sensors must not write
+// one file, ignoring case ("cam" writes cam_truth.exr, so "cam_truth" would overwrite it).
+void checkOutputFiles(const SceneSpec& spec, const YamlNode& root) {
+    std::vector<std::string> names;
+    for (const auto& s : spec.sensors) names.push_back(s.name);
+    const auto clash = findOutputClash(names, !spec.probes.empty());
+    if (!clash) return;
+    const YamlNode where = root["sensors"].at(clash->second)["name"];
+    if (clash->first == clash->second)
+        where.fail(fmt::format("sensor '{}' would write {}, which is the probe table's file name",
+                               spec.sensors[clash->second].name, clash->file));
+    where.fail(fmt::format("sensors '{}' (line {}) and '{}' would both write {}; output file names must differ after "
+                           "the suffixes the renderer adds (.exr, .img, .hdr, .png, _truth.exr, _material.png), "
+                           "ignoring case",
+                           spec.sensors[clash->first].name, spec.sensors[clash->first].loc.line,
+                           spec.sensors[clash->second].name, clash->file));
+}
+
 }  // namespace
 
 SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
@@ -460,6 +507,7 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         for (const auto& it : s->items()) spec.probes.push_back(parseProbe(it));
         checkUniqueNames(spec.probes, "probe", *s);
     }
+    checkOutputFiles(spec, root);
     if (auto s = root.optional("materials")) {
         for (const auto& it : s->items()) spec.materials.push_back(parseMaterial(it));
         checkUniqueNames(spec.materials, "material", *s);
@@ -503,7 +551,8 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
                                              "'phase'");
     }
     if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
-    if (spec.sky.radiance) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
+    // Without a sky section the radiance is the constant 0 (docs/scene-format.md): nothing to cover.
+    if (spec.sky.radiance && root.has("sky")) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
     return spec;
 }
 

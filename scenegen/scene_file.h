@@ -63,6 +63,7 @@ struct SensorSection {
 
 struct ProbeSection {
     std::string name;
+    SourceLoc loc;
     Vec3 position;
     std::vector<std::string> quantities;
     std::string medium = "auto";
@@ -124,6 +125,12 @@ struct SceneSpec {
 // (linear between samples), or {file: name.csv} with "wavelength_um, value" rows. Values are
 // range-checked against [min, max] (`unit` names them in messages).
 Spectrum parseSpectrum(const YamlNode& node, double min, double max, std::string_view unit);
+
+// The text of a spectrum file: rows "wavelength_um, value" (comma or blank separated), '#'
+// comments, one optional header row, UTF-8. Wavelengths in [0.2, 20] um, strictly increasing;
+// values in [min, max]. InputError at file:line naming the problem.
+Spectrum parseSpectrumCsv(std::string_view text, const std::string& fileForErrors, double min, double max,
+                          std::string_view unit);
 
 // Parses and validates a scene file. Throws InputError (file:line:column) on any mistake.
 SceneSpec loadSceneFile(const std::filesystem::path& file);

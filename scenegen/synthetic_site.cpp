@@ -1,4 +1,5 @@
 #include "scenegen/synthetic_site.h"
+#include "scenegen/image_encode.h"
 
 #include <algorithm>
 #include <cmath>
@@ -68,13 +69,7 @@ double valueNoise(uint64_t seed, uint64_t pass, double x, double y, double cell,
 
 template <class T>
 void writeImageAtomic(const fs::path& target, int w, int h, const std::vector<T>& data, OIIO::TypeDesc type) {
-    writeFileAtomic(target, [&](const fs::path& temp) {
-        auto out = OIIO::ImageOutput::create("png");
-        if (!out) throw InputError(SourceLoc{target.string()}, "cannot create PNG writer: " + OIIO::geterror());
-        OIIO::ImageSpec spec(w, h, 1, type);
-        if (!out->open(temp.string(), spec) || !out->write_image(type, data.data()) || !out->close())
-            throw InputError(SourceLoc{target.string()}, "cannot write PNG: " + out->geterror());
-    });
+    writeImageFile(target, "png", OIIO::ImageSpec(w, h, 1, type), type, data.data());
 }
 
 struct Target {
@@ -114,7 +109,7 @@ fs::path writeMesh(const fs::path& dir, const std::string& name, const TriMesh& 
 }  // namespace
 
 std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
-    fs::create_directories(dir);
+    createOutputFolder(dir);
     std::vector<fs::path> files;
     writeMesh(dir, "barge.ply", makeBarge(4.0, 12.0, 1.5), &files);    // slots: 0 hull, 1 deck
     writeMesh(dir, "boat.ply", makeBoat(5.0, 2.0, 0.8), &files);       // slots: 0 hull, 1 deck
@@ -132,8 +127,8 @@ std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
 
 SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     SiteSummary s;
-    fs::create_directories(dir / "textures");
-    fs::create_directories(dir / "objects");
+    createOutputFolder(dir / "textures");
+    createOutputFolder(dir / "objects");
     const uint64_t seed = opt.seed;
     const auto profile = siteProfile();
     const auto terrain = bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
@@ -295,6 +290,9 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     s.sceneFile = dir / "scene.yaml";
     writeTextFileAtomic(s.sceneFile, y);
     s.files.push_back(s.sceneFile);
+    // The site is complete: publish it (inside a command's output set the files are only staged
+    // until now), so its sizes can be read and the build that follows can read it.
+    publishStagedOutputs();
     for (const auto& f : s.files) s.totalBytes += fs::file_size(f);
     return s;
 }

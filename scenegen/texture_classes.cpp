@@ -10,6 +10,8 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/resource_limits.h"
+#include "scenegen/image_encode.h"
 
 namespace littoral::scenegen {
 namespace {
@@ -25,6 +27,9 @@ std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& 
     *w = spec.width;
     *h = spec.height;
     const int nc = spec.nchannels;
+    requireMemory(4.0 * (double(nc) + 1.0) * double(spec.width) * double(spec.height),
+                  fmt::format("texture image {} ({} x {} px, {} channels) would", path.string(), spec.width, spec.height, nc),
+                  where);
     std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * nc);
     if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, rgb.data()))
         throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), in->geterror()));
@@ -57,6 +62,14 @@ ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Exten
     if (!in) throw InputError(where, "cannot read classification map: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     const auto base = spec.format.basetype;
+    // One class index per pixel: a colour image has no single index per pixel (reading its red
+    // channel would turn colours into arbitrary classes such as 128).
+    if (spec.nchannels != 1)
+        throw InputError(where, fmt::format("classification map has {} channels; it must be a single-channel image of "
+                                            "class indices (8- or 16-bit grey, not RGB or with alpha)",
+                                            spec.nchannels));
+    requireMemory(4.0 * double(spec.width) * double(spec.height),
+                  fmt::format("a classification map of {} x {} px would", spec.width, spec.height), where);
     if (base != OIIO::TypeDesc::UINT8 && base != OIIO::TypeDesc::UINT16)
         throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
                                             "this image is {}",
@@ -150,21 +163,14 @@ std::vector<ir::Material> TextureClasses::materials() const {
 }
 
 void TextureClasses::writeTextures(const std::filesystem::path& irDir) const {
-    std::filesystem::create_directories(irDir / "textures");
+    createOutputFolder(irDir / "textures");
     for (size_t k = 0; k < classes.size(); ++k) {
         if (textures[k].empty()) continue;
         const auto target = irDir / "textures" / (classes[k].name + ".tif");
-        writeFileAtomic(target, [&](const std::filesystem::path& temp) {
-            // The temporary name has no image extension, so the format is named explicitly.
-            auto out = OIIO::ImageOutput::create("tiff");
-            if (!out) throw InputError(SourceLoc{target.string()}, "cannot create TIFF writer: " + OIIO::geterror());
-            OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::FLOAT);
-            spec.attribute("compression", "zip");
-            spec.attribute("DateTime", "");  // deterministic bytes
-            if (!out->open(temp.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, textures[k].data()) ||
-                !out->close())
-                throw InputError(SourceLoc{target.string()}, "cannot write texture: " + out->geterror());
-        });
+        OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::FLOAT);
+        spec.attribute("compression", "zip");
+        spec.attribute("DateTime", "");  // deterministic bytes
+        writeImageFile(target, "tif", spec, OIIO::TypeDesc::FLOAT, textures[k].data());
     }
 }
 
@@ -191,11 +197,14 @@ TextureClasses buildTextureClasses(const TextureClassesSpec& spec, const bathyme
     for (int j = 0; j < tc.map.height; ++j)
         for (int i = 0; i < tc.map.width; ++i) {
             const uint16_t v = tc.map.value[static_cast<size_t>(j) * tc.map.width + i];
-            if (tc.classOfValue[v] < 0)
-                throw InputError(SourceLoc{spec.map.string()},
-                                 fmt::format("pixel (column {}, row {}) has class value {}, which texture_classes does "
-                                             "not define; defined: {}",
-                                             i, j, v, fmt::join(known, ", ")));
+            if (tc.classOfValue[v] < 0) {
+                size_t count = 0;
+                for (uint16_t u : tc.map.value) count += u == v ? 1 : 0;
+                throw InputError(spec.loc, fmt::format("texture_classes.classes: the classification map {} holds class "
+                                                       "value {} ({} pixels, the first at column {}, row {}), but no "
+                                                       "class has index {}; defined: {}",
+                                                       spec.map.string(), v, count, i, j, v, fmt::join(known, ", ")));
+            }
         }
 
     const size_t n = tc.map.value.size();

@@ -51,6 +51,9 @@ public:
     bool asBool() const;
     std::string asString() const;
     std::string asEnum(const std::vector<std::string>& allowed) const;
+    // A name that becomes a file name or appears in output tables (core/output_names.h): portable
+    // characters only, no separators, no leading '.' or '-'. `what` names it ("sensor").
+    std::string asOutputName(std::string_view what) const;
     std::filesystem::path asPath() const;          // resolved against baseDir(); not checked
     std::filesystem::path asExistingPath() const;  // ... and must exist as a regular file
 

@@ -18,6 +18,7 @@ PACKAGES=(
   libfftw3-dev
   libfmt-dev
   nlohmann-json3-dev
+  clang libclang-rt-14-dev   # libFuzzer targets (fuzz/), smoke-run by the test suite
 )
 
 missing=()

@@ -230,22 +230,19 @@ Facets facetize(const HeightField& f, size_t target) {
 
 void writeObj(const std::filesystem::path& path, const TriMesh& m, const std::vector<Normal3>& normals) {
     const bool withNormals = normals.size() == m.positions.size();
-    writeFileAtomic(path, [&](const std::filesystem::path& tmp) {
-        std::FILE* fp = std::fopen(tmp.c_str(), "wb");
-        if (!fp) throw InputError(SourceLoc{path.string()}, "cannot write OBJ file");
-        std::fprintf(fp, "# written by Littoral: %zu vertices, %zu triangles\n", m.positions.size(), m.triangles.size());
-        for (const auto& p : m.positions) std::fprintf(fp, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+    std::string out = fmt::format("# written by Littoral: {} vertices, {} triangles\n", m.positions.size(),
+                                  m.triangles.size());
+    auto it = std::back_inserter(out);
+    for (const auto& p : m.positions) fmt::format_to(it, "v {:.17g} {:.17g} {:.17g}\n", p.x, p.y, p.z);
+    if (withNormals)
+        for (const auto& n : normals) fmt::format_to(it, "vn {:.9g} {:.9g} {:.9g}\n", n.x, n.y, n.z);
+    for (const auto& t : m.triangles) {
         if (withNormals)
-            for (const auto& n : normals) std::fprintf(fp, "vn %.9g %.9g %.9g\n", n.x, n.y, n.z);
-        for (const auto& t : m.triangles) {
-            if (withNormals)
-                std::fprintf(fp, "f %u//%u %u//%u %u//%u\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1);
-            else
-                std::fprintf(fp, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
-        }
-        const bool ok = std::ferror(fp) == 0;
-        if (std::fclose(fp) != 0 || !ok) throw InputError(SourceLoc{path.string()}, "cannot write OBJ file");
-    });
+            fmt::format_to(it, "f {}//{} {}//{} {}//{}\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1);
+        else
+            fmt::format_to(it, "f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    writeFileAtomic(path, out);
 }
 
 }  // namespace littoral::surfaces

@@ -1,5 +1,7 @@
 #include "surfaces/wave_surface.h"
 
+#include "core/resource_limits.h"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -31,7 +33,7 @@ std::string keyName(const WaveParams& p, Key k) {
         {"--size", "size"}, {"--size-y", "size_y"}, {"--spacing", "spacing"}, {"--seed", "seed"},
         {"--triangles", "triangles"}, {"--fetch", "fetch"}, {"--gamma", "gamma"},
         {"--amplitude", "amplitude"}, {"--wavelength", "wavelength"}, {"--phase", "phase"},
-        {"--time", "time"}, {"--depth", "depth"}, {"--max-memory", "max_memory_gib"}, {"--sea", "sea"}};
+        {"--time", "time"}, {"--depth", "depth"}, {"--max-memory", "--max-memory"}, {"--sea", "sea"}};
     const Names& n = names[static_cast<int>(k)];
     return p.sceneKeys ? n.scene : n.cli;
 }
@@ -171,10 +173,10 @@ void validateWaveParams(const WaveParams& p) {
     const GridSize n = gridSizeFor(p);
     const double bytes = estimateBytes(p);
     if (bytes > p.maxMemoryBytes)
-        fail(p, Key::Spacing, fmt::format("a {} x {} grid ({:.1f} M vertices) needs about {:.1f} GiB, above the "
-                                          "{:.1f} GiB limit; increase the spacing, reduce the size, or raise {}",
-                                          n.nx, n.ny, (n.nx + 1.0) * (n.ny + 1.0) / 1e6, bytes / 1073741824.0,
-                                          p.maxMemoryBytes / 1073741824.0, keyName(p, Key::MaxMemory)));
+        fail(p, Key::Spacing, fmt::format("a {} x {} grid ({:.1f} M vertices) needs about {} of memory, more than the "
+                                          "memory budget of {}; increase the spacing, reduce the size, or raise {}",
+                                          n.nx, n.ny, (n.nx + 1.0) * (n.ny + 1.0) / 1e6, formatBytes(bytes),
+                                          formatBytes(p.maxMemoryBytes), keyName(p, Key::MaxMemory)));
     const double gridTris = 2.0 * n.nx * n.ny;
     if (p.triangles != 0 && (p.triangles < kMinTriangles || static_cast<double>(p.triangles) > gridTris))
         fail(p, Key::Triangles, fmt::format("{} is not possible: the {} x {} grid has {:.0f} triangles; allowed "

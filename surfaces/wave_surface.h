@@ -22,6 +22,7 @@
 #include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/mesh.h"
+#include "core/resource_limits.h"
 #include "surfaces/beaufort.h"
 #include "surfaces/height_field.h"
 #include "surfaces/surface_stats.h"
@@ -54,7 +55,6 @@ struct WaveLimits {
     static constexpr double kMaxAmplitude = 50.0;     // m
     static constexpr double kMaxDepth = 12000.0;      // m
     static constexpr double kMaxTime = 1.0e6;         // s
-    static constexpr double kDefaultMaxMemory = 4.0 * 1024 * 1024 * 1024;  // bytes (4 GiB)
 };
 
 struct WaveParams {
@@ -78,7 +78,9 @@ struct WaveParams {
     double phase = 0.0;               // m, sinusoid: position of the first trough along the direction
     double time = 0.0;                // s, spectral models and sinusoid (dispersion relation)
     double depth = 0.0;               // m, water depth for the dispersion relation; 0 = deep
-    double maxMemoryBytes = WaveLimits::kDefaultMaxMemory;
+    // Refuse grids estimated to need more memory than this: the process-wide budget
+    // (`littoral --max-memory`, core/resource_limits.h) when the parameters are made.
+    double maxMemoryBytes = static_cast<double>(memoryBudget());
     // Names used in error messages: command-line options by default; the scene parser sets
     // sceneKeys so messages name its keys (and `where`, the section's location).
     bool sceneKeys = false;

@@ -141,7 +141,7 @@ TEST(Soundings, MalformedCsvNamesLineAndColumn) {
     m = err("header_only.csv", "lat,lon,depth\n");
     EXPECT_NE(m.find("no data rows"), std::string::npos) << m;
     m = inputErrorOf([] { lb::readSoundingsCsv("/nonexistent/soundings.csv"); });
-    EXPECT_NE(m.find("not found"), std::string::npos) << m;
+    EXPECT_NE(m.find("soundings file does not exist"), std::string::npos) << m;
 }
 
 // Shoreline constraint. Points B = (0, 2, +2) (beach) and D = (0, -2, -4) (seabed); the shoreline

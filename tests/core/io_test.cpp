@@ -1,11 +1,17 @@
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include "tests/support/test_support.h"
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "core/atomic_file.h"
+#include "core/output_names.h"
+#include "core/resource_limits.h"
+#include "core/text_checks.h"
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/scene_ir.h"
@@ -81,16 +87,114 @@ TEST(AtomicOutput, FailedWriteLeavesPreviousFileIntact) {
     const auto d = freshDir("atomic");
     writeTextFileAtomic(d / "out.txt", "good");
     try {
-        writeFileAtomic(d / "out.txt", [](const fs::path& tmp) {
-            std::ofstream(tmp) << "partial";
-            throw InputError("simulated failure half-way");
-        });
+        AtomicOutput out(d / "out.txt");
+        out.write("partial");
+        throw InputError("simulated failure half-way");
     } catch (const InputError&) {
     }
     EXPECT_EQ(readTextFile(d / "out.txt"), "good");
     int files = 0;
     for (auto& e : fs::directory_iterator(d)) { (void)e; ++files; }
     EXPECT_EQ(files, 1) << "the temporary file must be removed";
+}
+
+// Inside an output set nothing is published until the set commits; a set destroyed without commit
+// removes its temporaries and the folders it created; publishStagedOutputs makes what is staged
+// permanent.
+TEST(AtomicOutput, OutputSetPublishesAllOrNothing) {
+    const auto d = freshDir("output_set");
+    {
+        OutputSet set;
+        writeTextFileAtomic(d / "new" / "a.txt", "a");
+        writeTextFileAtomic(d / "new" / "b.txt", "b");
+        EXPECT_FALSE(fs::exists(d / "new" / "a.txt"));
+        // rolled back here
+    }
+    EXPECT_FALSE(fs::exists(d / "new")) << "the folder the set created is removed too";
+    {
+        OutputSet set;
+        writeTextFileAtomic(d / "kept.txt", "kept");
+        publishStagedOutputs();
+        EXPECT_EQ(readTextFile(d / "kept.txt"), "kept");
+        writeTextFileAtomic(d / "late.txt", "late");
+    }
+    EXPECT_TRUE(fs::exists(d / "kept.txt"));
+    EXPECT_FALSE(fs::exists(d / "late.txt"));
+    {
+        OutputSet set;
+        writeTextFileAtomic(d / "x.txt", "first");
+        writeTextFileAtomic(d / "x.txt", "second");  // the later content supersedes the staged one
+        set.commit();
+    }
+    EXPECT_EQ(readTextFile(d / "x.txt"), "second");
+    std::set<std::string> names;
+    for (auto& e : fs::directory_iterator(d)) names.insert(e.path().filename().string());
+    EXPECT_EQ(names, (std::set<std::string>{"kept.txt", "x.txt"})) << "no temporaries left";
+}
+
+// Only a regular file (or nothing) may be replaced; symlinks are refused even to regular files.
+TEST(AtomicOutput, RefusesToReplaceAnythingButARegularFile) {
+    const auto d = freshDir("targets");
+    writeTextFileAtomic(d / "real.txt", "real");
+    fs::create_symlink(d / "real.txt", d / "link.txt");
+    fs::create_directories(d / "dir.txt");
+    for (const char* f : {"link.txt", "dir.txt"}) {
+        const std::string msg = testing_support::inputErrorOf([&] { writeTextFileAtomic(d / f, "x"); });
+        EXPECT_NE(msg.find("refusing to write output"), std::string::npos) << f << ": " << msg;
+    }
+    EXPECT_EQ(readTextFile(d / "real.txt"), "real");
+    EXPECT_TRUE(fs::is_symlink(d / "link.txt"));
+    ASSERT_EQ(::mkfifo((d / "fifo.txt").c_str(), 0644), 0);
+    EXPECT_NE(testing_support::inputErrorOf([&] { writeTextFileAtomic(d / "fifo.txt", "x"); }).find("a FIFO"),
+              std::string::npos);
+}
+
+TEST(OutputNames, PortableUniqueAfterSuffixes) {
+    for (const char* ok : {"nadir", "sim-c-nadir", "cam_2", "A.b", "x"}) EXPECT_EQ(outputNameProblem(ok), "") << ok;
+    for (const std::string bad : {std::string(""), std::string("a/b"), std::string("..\\x"), std::string("a\0b", 3),
+                                  std::string(".hidden"), std::string("-rf"), std::string(".."), std::string("nul.exr"),
+                                  std::string("COM3"), std::string("with space"), std::string("caf\xc3\xa9"),
+                                  std::string(65, 'a')})
+        EXPECT_NE(outputNameProblem(bad), "") << printableName(bad);
+    EXPECT_FALSE(findOutputClash({"a", "b", "a_b"}, true).has_value());
+    const auto c = findOutputClash({"cam", "x", "cam_truth"}, false);
+    ASSERT_TRUE(c.has_value());
+    EXPECT_EQ(c->first, 0u);
+    EXPECT_EQ(c->second, 2u);
+    EXPECT_EQ(c->file, "cam_truth.exr");
+    EXPECT_TRUE(findOutputClash({"Cam", "cam"}, false).has_value()) << "case-insensitive file systems";
+}
+
+// RFC 3629 well-formedness, and where the first bad byte is.
+TEST(TextChecks, Utf8AndLocations) {
+    EXPECT_FALSE(firstInvalidUtf8("plain ascii\n").has_value());
+    EXPECT_FALSE(firstInvalidUtf8("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8c\x8a").has_value());  // e-acute, euro, wave
+    EXPECT_EQ(firstInvalidUtf8("ab\xff"), 2u);
+    EXPECT_EQ(firstInvalidUtf8("\xc0\xaf"), 0u);          // overlong '/'
+    EXPECT_EQ(firstInvalidUtf8("x\xed\xa0\x80"), 1u);    // UTF-16 surrogate
+    EXPECT_EQ(firstInvalidUtf8("\xf4\x90\x80\x80"), 0u);  // above U+10FFFF
+    EXPECT_EQ(firstInvalidUtf8("\xe2\x82"), 0u);          // truncated
+    const SourceLoc l = locationOf("ab\ncd\xff", 5, "f.yaml");
+    EXPECT_EQ(l.str(), "f.yaml:2:3");
+}
+
+TEST(ResourceLimits, SizesBudgetAndRefusals) {
+    EXPECT_EQ(parseByteSize("512M"), 512ull << 20);
+    EXPECT_EQ(parseByteSize("8g"), 8ull << 30);
+    EXPECT_EQ(parseByteSize("2"), 2ull << 30);  // a bare number is GiB, as `waves --max-memory` was
+    EXPECT_EQ(parseByteSize("1.5KiB"), 1536u);
+    for (const char* bad : {"", "-1", "0", "lots", "5X", "1e3G", "nan"})
+        EXPECT_NE(testing_support::inputErrorOf([&] { parseByteSize(bad); }).find("is not a memory size"),
+                  std::string::npos) << bad;
+    EXPECT_GE(defaultMemoryBudget(), 1ull << 30);
+    const uint64_t saved = memoryBudget();
+    setMemoryBudget(1 << 20);
+    const std::string msg = testing_support::inputErrorOf([] { requireMemory(3.0 * (1 << 20), "three MiB would"); });
+    EXPECT_NE(msg.find("three MiB would need 3 MiB of memory, more than the memory budget of 1 MiB (--max-memory)"),
+              std::string::npos) << msg;
+    EXPECT_EQ(testing_support::inputErrorOf([] { requireMemory(1 << 19, "half"); }), "");
+    setMemoryBudget(saved);
+    EXPECT_EQ(formatBytes(1536.0 * (1 << 30)), "1.5 TiB");
 }
 
 TEST(Suggest, DidYouMean) {

@@ -32,7 +32,7 @@ fs::path tempDir() {
 class Cli : public testing::Test {
 protected:
     void SetUp() override {
-        if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built: " << kBinary;
+        ASSERT_TRUE(fs::exists(kBinary)) << "littoral binary not built: " << kBinary;
     }
 };
 
@@ -47,7 +47,9 @@ TEST_F(Cli, VersionAndHelp) {
 
 TEST_F(Cli, CheckSceneExitCodes) {
     const fs::path good = tempDir() / "good.yaml";
-    std::ofstream(good) << "scene: {name: cli}\nsky: {radiance: 1}\n";
+    std::ofstream(good) << "scene: {name: cli, domain: {x: [-5, 5], y: [-5, 5]}}\nsky: {radiance: 1}\n"
+                           "bathymetry: {type: planar_slope, z0_m: -2, material: floor}\n"
+                           "materials: [{name: floor, reflectance: 0.2}]\n";
     const auto ok = run("check-scene " + good.string());
     EXPECT_EQ(ok.status, 0) << ok.output;
     EXPECT_NE(ok.output.find("valid"), std::string::npos);
@@ -61,7 +63,7 @@ TEST_F(Cli, CheckSceneExitCodes) {
 
     const auto missing = run("check-scene " + (tempDir() / "nope.yaml").string());
     EXPECT_EQ(missing.status, 1);
-    EXPECT_NE(missing.output.find("nope.yaml: error: cannot open the scene file"), std::string::npos) << missing.output;
+    EXPECT_NE(missing.output.find("nope.yaml: error: scene file does not exist"), std::string::npos) << missing.output;
 }
 
 TEST_F(Cli, UnknownSubcommandIsAUsageError) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/scene_ir.h"
 #include "scenegen/assemble.h"
 #include "scenegen/synthetic_site.h"
@@ -48,6 +49,17 @@ TEST(SyntheticSite, SameSeedSameBytesAndSmallFiles) {
     const fs::path c = tempDir("site_c");
     writeSyntheticSite(c, opt);
     EXPECT_NE(slurp(a / "classes.png"), slurp(c / "classes.png"));
+}
+
+// Inside a command's output set (demo) the site must be complete on disk when the function returns:
+// the build that follows reads it back, and its sizes are read from disk.
+TEST(SyntheticSite, IsPublishedInsideAnOutputSet) {
+    const fs::path d = tempDir("site_in_set");
+    OutputSet set;
+    const SiteSummary s = writeSyntheticSite(d, SiteOptions{});
+    for (const auto& f : s.files) EXPECT_TRUE(fs::is_regular_file(f)) << f;
+    EXPECT_GT(s.totalBytes, 0u);
+    set.commit();
 }
 
 TEST(SyntheticSite, BuildsAndPassesEveryValidityCheck) {

@@ -112,7 +112,7 @@ TEST(TextureClasses, MapLookupRemapAndUnknownClass) {
         FAIL() << "unclassified pixel accepted";
     } catch (const InputError& e) {
         const std::string w = e.what();
-        EXPECT_NE(w.find("pixel (column 2, row 0) has class value 7"), std::string::npos) << w;
+        EXPECT_NE(w.find("holds class value 7 (4 pixels, the first at column 2, row 0), but no class has index 7"), std::string::npos) << w;
         EXPECT_NE(w.find("defined: 3"), std::string::npos) << w;
     }
 }

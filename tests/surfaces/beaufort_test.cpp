@@ -8,9 +8,11 @@
 
 using namespace littoral::surfaces;
 
-// Printed digits: 6 m/s -> h 0.576, s 0.0337, L 24.15 (Table 10.2) / 24.2 (Table 9.5);
-// 10 m/s -> h 1.600, s 0.0542, L 41.7. Tolerance: half a unit of the last printed digit, except
-// Table 10.2's "24.15", which truncates 24.157 (it would round to 24.16): there we allow one unit.
+// Every expected value is a digit printed in the dissertation's tables (spec/seed-ch05-10.md
+// section 3.3), not the formula of beaufort.cpp typed again: 6 m/s -> h 0.576, s 0.0337,
+// L 24.15 (Table 10.2) / 24.2 (Table 9.5); 10 m/s -> h 1.600, s 0.0542, L 41.7 (both tables).
+// Tolerance: half a unit of the last printed digit, except Table 10.2's "24.15", which truncates
+// 24.157 (it would round to 24.16): there we allow one unit.
 TEST(Beaufort, PredictedValuesReproduceTables) {
     const BeaufortPrediction p6 = beaufortPrediction(6.0);
     EXPECT_NEAR(p6.rmsHeight, 0.576, 0.0005);
@@ -21,8 +23,10 @@ TEST(Beaufort, PredictedValuesReproduceTables) {
     EXPECT_NEAR(p10.rmsHeight, 1.600, 0.0005);
     EXPECT_NEAR(p10.rmsSlope, 0.0542, 0.00005);
     EXPECT_NEAR(p10.correlationLength, 41.7, 0.05);
-    // The defining relation L = sqrt(2) h / s (Gaussian autocorrelation, per-axis slope s).
-    EXPECT_NEAR(p10.correlationLength, std::sqrt(2.0) * 1.6 / 0.0542, 1e-9);
+    // The tables give wind speeds also in mph, 13.4 and 22.4: the model must be evaluated at the
+    // m/s values (1 mph = 0.44704 m/s exactly), which the rows above do.
+    EXPECT_NEAR(13.4 * 0.44704, 6.0, 0.05 * 0.44704);
+    EXPECT_NEAR(22.4 * 0.44704, 10.0, 0.05 * 0.44704);
 }
 
 // Tables 9.5/10.2 describe 6 m/s as "Small Waves" and 10 m/s as "Moderate Waves": WMO forces 4

@@ -60,8 +60,16 @@ void expectHeightFieldOverRectangle(const TriMesh& m, double x0, double y0, doub
 // The dissertation's case (Tables 9.5/10.2): 1200 x 1200 at 0.25 m, seed 500, 30,000 triangles.
 // Measured: RMS height (area-weighted, about the mean) and per-axis RMS slope (area-weighted
 // triangle gradients) of the full-resolution triangulation of the grid and of the decimated
-// mesh, with the same estimator (measureMesh). Decimation must keep the RMS height within 2% and
-// the RMS slope within 10% (issue 3).
+// mesh, with the same estimator (measureMesh). Decimation must keep the RMS height within 2%.
+// The slope tolerance is derived, not guessed: a triangle's gradient is the field's gradient
+// averaged over the triangle, which removes slope variance. For a window with per-axis second
+// moment sw^2 and a Gaussian autocorrelation exp(-r^2 / L^2) (per-axis wavenumber variance
+// 2 / L^2), the fraction of x-slope variance removed is 4 sw^2 (2 / L^2) = 8 sw^2 / L^2. A right
+// triangle with legs a has sw^2 = a^2 / 18, so the RMS slope drops by (1/2)(8 a^2 / 18 L^2) =
+// 2 a^2 / (9 L^2). Uniform triangles of the same count (area A / n each, a^2 = 2 A / n) set the
+// tolerance; the quadric decimation concentrates triangles where the surface bends and must do at
+// least as well. With L the measured correlation length: 0.28% at 6 m/s, 0.10% at 10 m/s
+// (measured errors: 0.06% and 0.02%).
 TEST(WaveSurface, DecimationToDissertationTriangleCountKeepsStatistics) {
     for (double U : {6.0, 10.0}) {
         WaveParams p;
@@ -72,7 +80,9 @@ TEST(WaveSurface, DecimationToDissertationTriangleCountKeepsStatistics) {
         EXPECT_GE(s.mesh.numTriangles(), 29000u);
         const SurfaceStats full = measureMesh(triangulate(s.field), s.field, 0.0);
         EXPECT_NEAR(s.actual.rmsHeight / full.rmsHeight, 1.0, 0.02) << U;
-        EXPECT_NEAR(s.actual.rmsSlope / full.rmsSlope, 1.0, 0.10) << U;
+        const double a2 = 2.0 * p.sizeX * p.sizeY / static_cast<double>(s.mesh.numTriangles());
+        const double slopeTol = 2.0 * a2 / (9.0 * full.correlationLength * full.correlationLength);
+        EXPECT_NEAR(s.actual.rmsSlope / full.rmsSlope, 1.0, slopeTol) << U;
         // Not required by the issue, but the scene's roughness scale should survive too: the 1/e
         // length of the rasterised mesh within the same 2% as the height (measured: 0.2%).
         EXPECT_NEAR(s.actual.correlationLength / full.correlationLength, 1.0, 0.02) << U;

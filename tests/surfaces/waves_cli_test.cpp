@@ -27,7 +27,7 @@ fs::path tempDir() {
 }  // namespace
 
 TEST(WavesCli, WritesMeshAndStats) {
-    if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built";
+    ASSERT_TRUE(fs::exists(kBinary)) << "littoral binary not built: " << kBinary;
     const fs::path d = tempDir();
     const fs::path mesh = d / "sea.ply", stats = d / "stats.json";
     const CmdResult r = run("waves --wind 6 --size 60 --spacing 0.5 --triangles 3000 --out " + mesh.string() + " --stats " +
@@ -72,7 +72,7 @@ TEST(WavesCli, WritesMeshAndStats) {
 
 // Each mistake: exit status 1, a message naming the option, and no output file.
 TEST(WavesCli, BadInputExitsOneWithoutOutput) {
-    if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built";
+    ASSERT_TRUE(fs::exists(kBinary)) << "littoral binary not built: " << kBinary;
     const fs::path d = tempDir();
     const fs::path mesh = d / "bad.ply", stats = d / "bad.json";
     const std::string outs = " --out " + mesh.string() + " --stats " + stats.string();

@@ -1,0 +1,681 @@
+// Hostile but realistic input, as a user would give it to `littoral` (issue 11). One test per
+// class of bad input; each asserts the exit status, the location and cause in the message, and
+// that the output folder holds nothing new (or the complete set). docs/reliability.md lists
+// every class with the test that covers it.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "scenegen/mesh_io.h"
+#include "scenegen/primitives.h"
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using littoral::testing_support::CommandResult;
+using littoral::testing_support::runLittoral;
+using littoral::testing_support::scratchDir;
+using littoral::testing_support::writeTextFile;
+
+namespace {
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// Every file and folder under `dir`, relative to it ("" if `dir` does not exist).
+std::set<std::string> listing(const fs::path& dir) {
+    std::set<std::string> s;
+    std::error_code ec;
+    if (!fs::exists(dir, ec)) return s;
+    for (auto it = fs::recursive_directory_iterator(dir, ec); it != fs::recursive_directory_iterator(); ++it)
+        s.insert(fs::relative(it->path(), dir).string());
+    return s;
+}
+
+std::string join(const std::set<std::string>& s) {
+    std::string r;
+    for (const auto& x : s) r += x + " ";
+    return r;
+}
+
+// The output folder must not exist or be empty: nothing partial, nothing at all.
+void expectNothingWritten(const fs::path& out, const std::string& what) {
+    EXPECT_TRUE(listing(out).empty()) << what << ": left behind: " << join(listing(out));
+}
+
+bool contains(const std::string& haystack, const std::string& needle) { return haystack.find(needle) != std::string::npos; }
+
+// A small valid scene: flat water over a planar seabed, one nadir frame sensor, one probe.
+// Line numbers below refer to this text: line 7 is the first sensor.
+const char* kScene = R"(scene: {name: hostile, domain: {x: [-5, 5], y: [-5, 5]}}
+sun: {zenith_deg: 30, irradiance: 1000}
+sky: {radiance: 0}
+water: {optics: {preset: coastal}}
+bathymetry: {type: planar_slope, z0_m: -2, material: floor}
+materials: [{name: floor, reflectance: 0.2}]
+sensors:
+  - {name: nadir, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, gsd_m: 0.5, width: 16, height: 12}
+probes:
+  - {name: p, position: [0, 0, -1], quantities: [Ed]}
+render: {probe_samples: 64, hemisphere_samples: 4}
+)";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
+// Runs `littoral ARGS` as a child process (no shell) so the test can signal it.
+pid_t spawnLittoral(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{littoral::testing_support::littoralBinary().string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (auto& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+int waitStatus(pid_t pid) {
+    int st = 0;
+    waitpid(pid, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+class Hostile : public testing::Test {
+protected:
+    void SetUp() override {
+        ASSERT_TRUE(fs::exists(littoral::testing_support::littoralBinary())) << "build the littoral target first";
+        dir_ = scratchDir("hostile", testing::UnitTest::GetInstance()->current_test_info()->name());
+        out_ = dir_ / "out";
+    }
+    // Writes `text` as dir/scene.yaml and runs `littoral COMMAND scene.yaml [--out out]`.
+    CommandResult runScene(const std::string& command, const std::string& text, bool withOut = true) {
+        writeTextFile(dir_, "scene.yaml", text);
+        return runLittoral("-q " + command + " " + q(dir_ / "scene.yaml") + (withOut ? " --out " + q(out_) : ""));
+    }
+    fs::path dir_, out_;
+};
+
+}  // namespace
+
+// ---- 1. Names that become file names ---------------------------------------------------------
+
+TEST_F(Hostile, TraversalAbsoluteNulAndCollidingNamesAreLocatedErrors) {
+    const struct {
+        std::string name, where, cause;
+    } cases[] = {
+        {"\"../../x\"", "scene.yaml:8:12: error: sensors[0].name:", "contains a path separator"},
+        {"\"/tmp/abs\"", "scene.yaml:8:12: error: sensors[0].name:", "contains a path separator"},
+        {"\"a\\0b\"", "scene.yaml:8:12: error: sensors[0].name:", "contains a NUL byte"},
+        {"\"a\\tb\"", "scene.yaml:8:12: error: sensors[0].name:", "control character \\x09"},
+        {"..", "scene.yaml:8:12: error: sensors[0].name:", "relative folder reference"},
+        {"-rf", "scene.yaml:8:12: error: sensors[0].name:", "must not start with '-'"},
+    };
+    for (const auto& c : cases) {
+        const CommandResult r = runScene("run", replaced(kScene, "name: nadir", "name: " + c.name));
+        EXPECT_EQ(r.status, 1) << c.name << "\n" << r.output;
+        EXPECT_TRUE(contains(r.output, c.where)) << r.output;
+        EXPECT_TRUE(contains(r.output, c.cause)) << r.output;
+        expectNothingWritten(out_, c.name);
+        EXPECT_FALSE(fs::exists(dir_.parent_path().parent_path() / "x.exr"));
+    }
+    // "cam" writes cam_truth.exr, so a second sensor named cam_truth would overwrite it.
+    std::string two = replaced(kScene, "name: nadir", "name: cam");
+    two = replaced(two, "probes:", "  - {name: cam_truth, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, "
+                                   "gsd_m: 0.5, width: 8, height: 8}\nprobes:");
+    const CommandResult r = runScene("run", two);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:9:12: error: sensors[1].name: sensors 'cam' (line 8) and 'cam_truth' "
+                                   "would both write cam_truth.exr"))
+        << r.output;
+    expectNothingWritten(out_, "cam / cam_truth");
+    // check-scene says the same (it used to call all of these valid).
+    EXPECT_EQ(runScene("check-scene", two, false).status, 1);
+}
+
+TEST_F(Hostile, RenderRefusesBadNamesInAnIR) {
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
+    std::string json;
+    {
+        std::ifstream f(dir_ / "ir" / "scene.json");
+        json.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"name\": \"nadir\"", "\"name\": \"../../evil\"");
+    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.json: error: sensors[0].name: sensor name '../../evil' contains a path "
+                                   "separator"))
+        << r.output;
+    expectNothingWritten(out_, "render");
+    EXPECT_FALSE(fs::exists(dir_.parent_path() / "evil.exr"));
+}
+
+// ---- 2. Special files at output targets --------------------------------------------------------
+
+TEST_F(Hostile, SpecialFilesAtOutputTargetsAreRefusedAndKept) {
+    // Devices: `--stats /dev/null` or `/dev/full` must not turn the device into a regular file when
+    // run as root. Tested on copies of those devices made in the scratch folder (mknod, root only),
+    // so that a regression cannot damage the machine's own /dev.
+    struct stat st;
+    for (const auto& [name, minor] : {std::pair<const char*, int>{"null", 3}, {"full", 7}}) {
+        const fs::path dev = dir_ / name;
+        if (::mknod(dev.c_str(), S_IFCHR | 0666, makedev(1, minor)) != 0) {
+            std::printf("mknod not permitted (not root): device case skipped, FIFO and symlink cases below\n");
+            break;
+        }
+        const CommandResult r = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats " + q(dev));
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_TRUE(contains(r.output, dev.string() + ": error: --stats: refusing to write output: a character device "
+                                                      "is in the way"))
+            << r.output;
+        ASSERT_EQ(::stat(dev.c_str(), &st), 0);
+        EXPECT_TRUE(S_ISCHR(st.st_mode));
+    }
+
+    // A symlink, a FIFO and a folder where render would put its files.
+    fs::create_directories(out_);
+    writeTextFile(dir_, "precious.txt", "keep me");
+    fs::create_symlink(dir_ / "precious.txt", out_ / "nadir.png");
+    ASSERT_EQ(::mkfifo((out_ / "nadir.exr").c_str(), 0644), 0);
+    fs::create_directories(out_ / "nadir_truth.exr");
+    const auto before = listing(out_);
+    const auto t0 = std::chrono::steady_clock::now();
+    const CommandResult r = runScene("run", kScene);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60)) << "a FIFO target must not block";
+    EXPECT_TRUE(contains(r.output, "nadir.exr: error: refusing to write output: a FIFO (named pipe) is in the way"))
+        << r.output;
+    // The IR was published before rendering (it is a complete set of its own); nothing else is new.
+    std::set<std::string> after = listing(out_);
+    for (auto it = after.begin(); it != after.end();) it = it->rfind("ir", 0) == 0 ? after.erase(it) : std::next(it);
+    EXPECT_EQ(after, before) << join(after);
+    EXPECT_TRUE(fs::is_symlink(out_ / "nadir.png"));
+    ASSERT_EQ(::stat((out_ / "nadir.exr").c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode));
+    std::ifstream keep(dir_ / "precious.txt");
+    std::string text;
+    std::getline(keep, text);
+    EXPECT_EQ(text, "keep me");
+}
+
+// ---- 3. Full disk -------------------------------------------------------------------------------
+
+// The outputs go to a 64 KiB tmpfs in a private mount namespace (unshare -m as root, unshare -rm
+// otherwise); where mounting is not allowed, RLIMIT_FSIZE makes the same writes fail (EFBIG
+// instead of ENOSPC, the same checked-write path).
+TEST_F(Hostile, FullDiskIsAnErrorAndLeavesNothing) {
+    // 200 x 150 px x 3 bands: the ENVI data alone (360 KB) exceeds the 64 KiB disk.
+    std::string scene = replaced(kScene, "width: 16, height: 12", "width: 200, height: 150");
+    scene = replaced(scene, "render: {", "render: {bands: [[0.4, 0.5], [0.5, 0.6], [0.6, 0.7]], ");
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", scene)) + " --out " + q(dir_ / "ir")).status, 0);
+    fs::create_directories(out_);
+    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + q(dir_ / "ir") +
+                               " --out " + q(out_);
+    const std::string inner = "mount -t tmpfs -o size=64k tmpfs " + q(out_) + " && { " + render +
+                              "; rc=\\$?; echo LISTING; ls -A " + q(out_) + "; exit \\$rc; }";
+    std::string mode;
+    CommandResult r;
+    for (const char* unshare : {"unshare -m", "unshare -rm"}) {
+        const std::string cmd = std::string(unshare) + " sh -c \"" + inner + "\" 2>&1";
+        FILE* p = popen(cmd.c_str(), "r");
+        ASSERT_TRUE(p);
+        r.output.clear();
+        char buf[4096];
+        while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+        const int st = pclose(p);
+        r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+        if (contains(r.output, "LISTING")) {
+            mode = "tmpfs";
+            break;
+        }
+    }
+    if (mode.empty()) {
+        mode = "RLIMIT_FSIZE";
+        const std::string cmd = "sh -c \"trap '' XFSZ; prlimit --fsize=65536 " + render + "\" 2>&1";
+        FILE* p = popen(cmd.c_str(), "r");
+        ASSERT_TRUE(p);
+        r.output.clear();
+        char buf[4096];
+        while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+        const int st = pclose(p);
+        r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    }
+    std::printf("full disk simulated with %s\n", mode.c_str());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "cannot write output") &&
+                (contains(r.output, "No space left on device") || contains(r.output, "File too large")))
+        << r.output;
+    if (mode == "tmpfs") {
+        const std::string after = r.output.substr(r.output.find("LISTING") + 8);
+        EXPECT_EQ(after.find_first_not_of(" \n"), std::string::npos) << "left on the full disk: " << after;
+    } else {
+        expectNothingWritten(out_, "RLIMIT_FSIZE");
+    }
+}
+
+// ---- 4. Lying headers ---------------------------------------------------------------------------
+
+TEST_F(Hostile, LyingHeadersAreRefusedBeforeAllocating) {
+    // 60 bytes that claim four billion vertices (96 GB of float data).
+    writeTextFile(dir_, "lie.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                                   "property float y\nproperty float z\nend_header\n");
+    const auto t0 = std::chrono::steady_clock::now();
+    CommandResult r = runLittoral("check-mesh " + q(dir_ / "lie.ply"));
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20));
+    EXPECT_EQ(r.status, 2) << r.output;  // unreadable
+    EXPECT_TRUE(contains(r.output, "lie.ply: PLY header declares 4000000000 vertex elements, needing at least "
+                                   "48000000000 bytes of binary data, but the file holds only 0 bytes"))
+        << r.output;
+    writeTextFile(dir_, "abc.ply", "ply\nformat ascii 1.0\nelement vertex abc\nend_header\n");
+    r = runLittoral("check-mesh " + q(dir_ / "abc.ply"));
+    EXPECT_EQ(r.status, 2);
+    EXPECT_TRUE(contains(r.output, "abc.ply:3:1: PLY header: expected 'element <name> <count>'")) << r.output;
+    // The same mesh as a scene object: exit 1, located at the object's entry.
+    std::string scene = replaced(kScene, "probes:", "probes:");
+    scene += "objects:\n  - {name: liar, mesh: lie.ply, materials: floor, position_m: [0, 0], draft_m: 0.5}\n";
+    r = runScene("build", scene);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:13:5: error: object 'liar': cannot read mesh")) << r.output;
+    expectNothingWritten(out_, "lying object");
+    // A binary STL whose count disagrees with its size, and an ASCII grid header asking for 10^12
+    // samples (8 TB) in a 100-byte file.
+    std::string stl(84, '\0');
+    stl[80] = 12;
+    writeTextFile(dir_, "short.stl", stl);
+    r = runLittoral("check-mesh " + q(dir_ / "short.stl"));
+    EXPECT_EQ(r.status, 2);
+    EXPECT_TRUE(contains(r.output, "binary STL header declares 12 triangles, which take 684 bytes, but the file has 84"))
+        << r.output;
+    writeTextFile(dir_, "huge.asc", "ncols 1000000\nnrows 1000000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n");
+    scene = replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+                     "bathymetry: {type: raster, file: huge.asc, material: floor}");
+    r = runScene("check-scene", scene, false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "huge.asc:2: error: an elevation grid of 1000000 x 1000000 samples would need 7.28 "
+                                   "TiB of memory, more than the memory budget"))
+        << r.output;
+}
+
+// ---- 5. Alias amplification ----------------------------------------------------------------------
+
+TEST_F(Hostile, AliasAmplificationIsCapped) {
+    // Ten nested levels of ten aliases each: 10^10 nodes when expanded, 1 KB on disk.
+    std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+    for (int i = 1; i < 10; ++i) {
+        bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+        for (int k = 0; k < 10; ++k) bomb += (k ? ", *a" : "*a") + std::to_string(i - 1);
+        bomb += "]\n";
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const CommandResult r = runScene("run", bomb);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:6:") && contains(r.output, "the document expands to more than 1000000 "
+                                                                          "nodes"))
+        << r.output;
+    expectNothingWritten(out_, "bomb");
+    // An alias to the node that contains it would make every walk of the tree endless.
+    const CommandResult loop = runScene("check-scene", "scene: &s {name: *s}\n", false);
+    EXPECT_EQ(loop.status, 1);
+    EXPECT_TRUE(contains(loop.output, "scene.yaml:1:18: error: this alias refers to a node that contains it"))
+        << loop.output;
+}
+
+// ---- 6. Signals while writing ---------------------------------------------------------------------
+
+// A render whose writing takes long enough to be caught: 1000 x 1000 px, 12 bands (48 MB film).
+TEST_F(Hostile, SignalWhileWritingRemovesPartialOutputs) {
+    std::string big = kScene;
+    big = replaced(big, "gsd_m: 0.5, width: 16, height: 12", "gsd_m: 0.01, width: 1000, height: 1000");
+    big = replaced(big, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                   "render: {probe_samples: 64, hemisphere_samples: 1, bands: {range_um: [0.4, 0.7], count: 12}}");
+    big = replaced(big, "water: {optics: {preset: coastal}}\n", "");
+    big = replaced(big, "probes:\n  - {name: p, position: [0, 0, -1], quantities: [Ed]}\n", "");
+    big = replaced(big, "z0_m: -2", "z0_m: 0");
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", big)) + " --out " + q(dir_ / "ir")).status, 0);
+    for (const int sig : {SIGTERM, SIGINT}) {
+        fs::remove_all(out_);
+        const pid_t pid = spawnLittoral({"-q", "render", (dir_ / "ir").string(), "--out", out_.string()});
+        ASSERT_GT(pid, 0);
+        // Wait until the first finished temporary appears, then signal.
+        bool seen = false;
+        for (int i = 0; i < 6000 && !seen; ++i) {
+            for (const auto& f : listing(out_)) seen = seen || contains(f, ".tmp-");
+            if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        EXPECT_TRUE(seen) << "no temporary output appeared within 60 s";
+        ::kill(pid, sig);
+        const int status = waitStatus(pid);
+        EXPECT_EQ(status, 128 + sig) << "signal " << sig;
+        expectNothingWritten(out_, sig == SIGTERM ? "SIGTERM" : "SIGINT");
+    }
+}
+
+// ---- 7. Non-UTF-8 text ----------------------------------------------------------------------------
+
+TEST_F(Hostile, NonUtf8TextIsALocatedInputError) {
+    const CommandResult r = runScene("run", replaced(kScene, "name: hostile", "name: \"hos\xfftile\""));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:1:19: error: the file is not UTF-8 text: byte 0xff")) << r.output;
+    expectNothingWritten(out_, "non-UTF-8");
+    // Valid UTF-8, but not a portable file name: refused where it is written.
+    const CommandResult u = runScene("run", replaced(kScene, "name: nadir", "name: caméra"));
+    EXPECT_EQ(u.status, 1) << u.output;
+    EXPECT_TRUE(contains(u.output, "scene.yaml:8:12: error: sensors[0].name: sensor name 'cam\\xc3\\xa9ra' contains "
+                                   "the non-ASCII byte \\xc3"))
+        << u.output;
+}
+
+// ---- 8. Unwritable outputs -------------------------------------------------------------------------
+
+TEST_F(Hostile, UnwritableOutputsExitOneBeforeAnyWork) {
+    writeTextFile(dir_, "afile", "x");
+    for (const fs::path& bad : {dir_ / "afile", dir_ / "afile" / "sub"}) {
+        out_ = bad;
+        const CommandResult r = runScene("run", kScene);
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_TRUE(contains(r.output, "cannot create output folder") && contains(r.output, "exists and is not a folder"))
+            << r.output;
+    }
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
+    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "afile"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "afile: error: --out: cannot create output folder")) << r.output;
+    // A read-only folder: a read-only tmpfs in a private mount namespace (root ignores permission
+    // bits), or a folder without write permission where that is not possible (not root).
+    fs::create_directories(dir_ / "ro");
+    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + q(dir_ / "ir") +
+                               " --out " + q(dir_ / "ro" / "out");
+    std::string ro;
+    for (const char* unshare : {"unshare -m", "unshare -rm"}) {
+        const std::string cmd = std::string(unshare) + " sh -c \"mount -t tmpfs -o ro tmpfs " + q(dir_ / "ro") +
+                                " && " + render + "\" 2>&1; echo \"rc=$?\"";
+        FILE* p = popen(cmd.c_str(), "r");
+        ASSERT_TRUE(p);
+        ro.clear();
+        char buf[4096];
+        while (size_t n = fread(buf, 1, sizeof buf, p)) ro.append(buf, n);
+        pclose(p);
+        if (contains(ro, "Read-only file system")) break;
+    }
+    if (!contains(ro, "Read-only file system") && ::geteuid() != 0) {
+        fs::permissions(dir_ / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+        const CommandResult p = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "ro" / "out"));
+        ro = p.output + "rc=" + std::to_string(p.status);
+        fs::permissions(dir_ / "ro", fs::perms::owner_all);
+    }
+    EXPECT_TRUE(contains(ro, "rc=1")) << ro;
+    EXPECT_TRUE(contains(ro, "--out: output folder") &&
+                (contains(ro, "Read-only file system") || contains(ro, "Permission denied")))
+        << ro;
+    EXPECT_TRUE(listing(dir_ / "ro").empty());
+    const CommandResult w = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --out /nonexistent-dir/sea.ply");
+    EXPECT_EQ(w.status, 1);
+    EXPECT_TRUE(contains(w.output, "--out: the folder '/nonexistent-dir' does not exist")) << w.output;
+    // The mesh would be overwritten by the statistics.
+    const CommandResult same = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --out " + q(dir_ / "s.ply") +
+                                           " --stats " + q(dir_ / "s.ply"));
+    EXPECT_EQ(same.status, 1);
+    EXPECT_TRUE(contains(same.output, "is the same file as --out")) << same.output;
+    EXPECT_FALSE(fs::exists(dir_ / "s.ply"));
+}
+
+// ---- 9. Duplicate keys and documents ---------------------------------------------------------------
+
+TEST_F(Hostile, DuplicateKeysAndDocumentsAreErrors) {
+    CommandResult r = runScene("run", std::string(kScene) + "scene: {name: again}\n");
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:12:1: error: duplicate key 'scene' (first given at line 1, column 1)"))
+        << r.output;
+    expectNothingWritten(out_, "duplicate section");
+    r = runScene("check-scene", replaced(kScene, "width: 16,", "width: 16, width: 17,"), false);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "scene.yaml:8:103: error: duplicate key 'width' (first given at line 8, column 92)")) << r.output;
+    r = runScene("run", std::string(kScene) + "---\nscene: {name: second}\n");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "scene.yaml:12:1: error: a second YAML document starts here")) << r.output;
+    expectNothingWritten(out_, "second document");
+    r = runLittoral("-q demo --seed -1 --out " + q(out_));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "--seed: Value -1 not in range")) << r.output;
+    expectNothingWritten(out_, "--seed -1");
+}
+
+// ---- Resource limits ---------------------------------------------------------------------------------
+
+TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
+    CommandResult r = runLittoral("-q --max-memory 64M check-scene " +
+                                  q(writeTextFile(dir_, "scene.yaml", replaced(kScene, "width: 16, height: 12",
+                                                                               "width: 20000, height: 20000"))));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:8:5: error: sensors[0]: sensor 'nadir' (20000 x 20000 px x 1 bands) "
+                                   "would need 14.9 GiB of memory, more than the memory budget of 64 MiB "
+                                   "(--max-memory)"))
+        << r.output;
+    r = runScene("run", replaced(kScene, "render: {", "render: {photons: {surface: 10000000000}, "));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:11:29: error: render.photons.surface: 10000000000 surface photons (32 B "
+                                   "each) (with the rest of the render) would need 298 GiB"))
+        << r.output;
+    expectNothingWritten(out_, "photons");
+    // A hand-edited IR asking for a 100000^2 sensor.
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
+    std::string json;
+    {
+        std::ifstream f(dir_ / "ir" / "scene.json");
+        json.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    json = replaced(json, "\"width\": 16", "\"width\": 100000");
+    std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"height\": 12", "\"height\": 100000");
+    r = runLittoral("-q --max-memory 8G render " + q(dir_ / "ir") + " --out " + q(out_));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.json: error: rendering sensor 'nadir' (100000 x 100000 px x 1 bands) would "
+                                   "need 373 GiB of memory, more than the memory budget of 8 GiB (--max-memory)"))
+        << r.output;
+    expectNothingWritten(out_, "IR sensor");
+    r = runLittoral("--max-memory lots check-scene " + q(dir_ / "scene.yaml"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "--max-memory: 'lots' is not a memory size")) << r.output;
+}
+
+TEST_F(Hostile, NonRegularInputsAreRefused) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CommandResult r = runLittoral("check-scene /dev/zero");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "/dev/zero: error: is a character device, not a regular file")) << r.output;
+    ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0644), 0);
+    r = runLittoral("check-scene " + q(dir_ / "fifo.yaml"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "fifo.yaml: error: is a FIFO (named pipe), not a regular file")) << r.output;
+    r = runLittoral("check-scene " + q(dir_));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "error: is a folder, not a scene file")) << r.output;
+    ASSERT_EQ(::mkfifo((dir_ / "fifo.ply").c_str(), 0644), 0);
+    r = runLittoral("check-mesh " + q(dir_ / "fifo.ply"));
+    EXPECT_EQ(r.status, 2);
+    EXPECT_TRUE(contains(r.output, "fifo.ply: is a FIFO (named pipe), not a regular file")) << r.output;
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30)) << "nothing may block on a FIFO";
+}
+
+// ---- Scene errors that need the geometry: located, and found by check-scene --------------------------
+
+TEST_F(Hostile, GeometricSceneErrorsAreLocated) {
+    littoral::scenegen::writeMeshFile(dir_ / "box.obj", littoral::scenegen::makeBox(1, 1, 1, -0.5));
+    const std::string obj = "objects:\n  - {name: a, mesh: box.obj, materials: floor, position_m: [0, 0], z_m: -1}\n";
+    const struct {
+        std::string scene, where, cause;
+    } cases[] = {
+        {std::string(kScene) + replaced(obj, "[0, 0]", "[40, 0]"), "scene.yaml:13:5: error:",
+         "object 'a' spans [39.5, 40.5] x [-0.5, 0.5] m in plan, which lies outside the scene domain"},
+        {std::string(kScene) + replaced(obj, "[0, 0]", "[4.8, 0]"), "scene.yaml:13:5: error:", "crosses the edge of"},
+        {std::string(kScene) + obj + "  - {name: b, mesh: box.obj, materials: floor, position_m: [0.5, 0], z_m: -1}\n",
+         "scene.yaml:14:5: error:", "object 'b' intersects or contains object 'a' (line 13)"},
+        {replaced(std::string(kScene) + obj, "probes:",
+                  "  - {name: inside, type: pinhole, position: [0, 0, -1], direction: [1, 0, 0], focal_length_mm: 5, "
+                  "pixel_pitch_um: 10, width: 4, height: 4}\nprobes:"),
+         "scene.yaml:9:5: error:", "sensor 'inside' sits at (0, 0, -1), inside object 'a'"},
+        {replaced(kScene, "probes:", "  - {name: sky, type: pinhole, position: [0, 0, 20], direction: [0, 0, 1], "
+                                     "focal_length_mm: 5, pixel_pitch_um: 10, width: 4, height: 4}\nprobes:"),
+         "scene.yaml:9:5: error:", "sensor 'sky' at (0, 0, 20) looking along (0, 0, 1) sees nothing of the scene"},
+        {replaced(kScene, "position: [0, 0, -1]", "position: [0, 0, -3]"), "scene.yaml:10:5: error:",
+         "probe 'p' at (0, 0, -3) is 1 m under the seabed"},
+        {replaced(kScene, "water: {optics: {preset: coastal}}", "water: {surface: {model: flat, size: [6, 20]}}"),
+         "scene.yaml:4:18: error:", "water.surface covers [-3, 3] x [-10, 10] m, which does not cover the scene domain"},
+    };
+    for (const auto& c : cases) {
+        const CommandResult r = runScene("check-scene", c.scene, false);
+        EXPECT_EQ(r.status, 1) << c.cause << "\n" << r.output;
+        EXPECT_TRUE(contains(r.output, c.where) && contains(r.output, c.cause)) << r.output;
+        const CommandResult b = runScene("build", c.scene);
+        EXPECT_EQ(b.status, 1);
+        expectNothingWritten(out_, c.cause);
+    }
+}
+
+// Inputs whose old messages named the wrong cause.
+TEST_F(Hostile, UnreadableInputsNameTheRealCause) {
+    // A spectrum "file" that cannot be read (here a folder) is not "a spectrum without wavelengths".
+    fs::create_directories(dir_ / "refl.csv");
+    CommandResult r = runScene("check-scene", replaced(kScene, "reflectance: 0.2", "reflectance: {file: refl.csv}"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:6:47: error: materials[0].reflectance.file: file") &&
+                contains(r.output, "refl.csv' does not exist or is not a regular file"))
+        << r.output;
+    // A spectrum file with only a header is empty, and says so with its name.
+    writeTextFile(dir_, "empty.csv", "wavelength_um,value\n");
+    r = runScene("check-scene", replaced(kScene, "reflectance: 0.2", "reflectance: {file: empty.csv}"), false);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "empty.csv: the file holds no 'wavelength_um, value' rows")) << r.output;
+    // A YAML syntax error names its place and yaml-cpp's reason, not "bad file".
+    r = runScene("check-scene", "scene: {name: x\nsky: [1, 2\n", false);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "scene.yaml:") && contains(r.output, "error: YAML syntax error: ")) << r.output;
+    EXPECT_FALSE(contains(r.output, "bad file")) << r.output;
+    // Class maps: an RGB image has no class index per pixel (it used to read as class 128), and a
+    // value without a class is located at texture_classes with the pixel that holds it.
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.5,0.5,0.5 4x4 3 -d uint8 -o " + q(dir_ / "rgb.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.02745098 4x4 1 -d uint8 -o " + q(dir_ / "seven.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    const std::string classes = replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+                                         "bathymetry: {type: planar_slope, z0_m: -2}") +
+                                "texture_classes:\n  map: MAP\n  classes:\n    - {index: 0, name: sand, reflectance: 0.3}\n";
+    r = runScene("check-scene", replaced(classes, "MAP", "rgb.png"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "rgb.png: error: classification map has 3 channels; it must be a single-channel "
+                                   "image of class indices"))
+        << r.output;
+    r = runScene("check-scene", replaced(classes, "MAP", "seven.png"), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:13:3: error: texture_classes.classes: the classification map") &&
+                contains(r.output, "holds class value 7 (16 pixels, the first at column 0, row 0), but no class has "
+                                   "index 7; defined: 0"))
+        << r.output;
+}
+
+// What docs/scene-format.md calls optional is optional, and the ENVI header prints band widths as
+// the numbers they are.
+TEST_F(Hostile, DocumentedDefaultsAreDefaults) {
+    // No sky, and water without a surface (a flat surface over the domain).
+    std::string scene = replaced(kScene, "sky: {radiance: 0}\n", "");
+    scene = replaced(scene, "render: {", "render: {bands: [[0.4, 0.5], [0.5, 0.6]], ");
+    const CommandResult r = runScene("run", scene);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* f : {"nadir.exr", "nadir.img", "nadir.hdr", "nadir.png", "nadir_truth.exr", "nadir_material.png",
+                          "probes.csv", "probes.json", "ir/scene.json", "ir/validity.json", "ir/meshes/water.ply"})
+        EXPECT_TRUE(fs::exists(out_ / f)) << f;
+    std::ifstream hdr(out_ / "nadir.hdr");
+    std::string text((std::istreambuf_iterator<char>(hdr)), {});
+    EXPECT_TRUE(contains(text, "fwhm = {0.1, 0.1}")) << text;
+    EXPECT_TRUE(contains(text, "wavelength = {0.45, 0.55}")) << text;
+}
+
+// ---- Mesh readers: the right cause in every format --------------------------------------------------
+
+TEST_F(Hostile, MeshReadersReportTheRightCause) {
+    const std::string verts = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    const std::string faces = "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+    const struct {
+        std::string file, text;
+        int status;
+        std::string cause;
+    } cases[] = {
+        {"nan.obj", replaced(verts, "v 0 0 0", "v nan 0 0") + faces, 1, "NaN or infinite coordinates: vertex 0"},
+        {"huge.obj", replaced(verts, "v 0 0 1", "v 0 0 1e400") + faces, 1, "NaN or infinite coordinates: vertex 3"},
+        {"nan.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 inf\n0 0 1\n"
+                    "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
+         1, "NaN or infinite coordinates: vertex 2"},
+        {"nan.stl", "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 nan\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                    "endfacet\nendsolid t\n",
+         1, "NaN or infinite coordinates: vertex 0"},
+        {"index.obj", verts + replaced(faces, "f 2 3 4", "f 2 3 9"), 2,
+         "index.obj:7:7: face refers to vertex 9, but the file defines only 4 vertices"},
+        {"index.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 7\n", 2,
+         "index.off:7:7: face 0 refers to vertex 7, but there are 4 vertices"},
+        {"garbage.obj", "\x7f" "ELF\x02\x01\x01 binary junk\n", 2, "is not an OBJ statement"},
+        {"garbage.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n", 2,
+         "the file ends where 'vertex x y z' (a facet has exactly 3 vertices) was expected (truncated)"},
+        {"truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n", 2,
+         "truncated.off:2:1: the header declares 4 vertices and 4 faces, which need at least 56 bytes of lines, but only "
+         "12 bytes follow"},
+    };
+    for (const auto& c : cases) {
+        writeTextFile(dir_, c.file, c.text);
+        const CommandResult r = runLittoral("check-mesh " + q(dir_ / c.file));
+        EXPECT_EQ(r.status, c.status) << c.file << "\n" << r.output;
+        EXPECT_TRUE(contains(r.output, c.cause)) << c.file << "\n" << r.output;
+        EXPECT_FALSE(contains(r.output, "mesh is empty")) << c.file;
+    }
+}
+
+// A closed cube with a fin triangle on one edge: the edge is non-manifold, but faces that share
+// only an edge or a vertex do not intersect. An open mesh has no volume to report.
+TEST_F(Hostile, CheckMeshHasNoFalseIntersectionsOrVolumes) {
+    littoral::TriMesh cube = littoral::scenegen::makeBox(1, 1, 1);
+    cube.faceMaterial.clear();
+    // The fin leaves the edge away from the cube's centre, so it touches the cube only along the edge.
+    const auto t0 = cube.triangles[0];
+    const littoral::Point3 mid = (cube.positions[t0[0]] + cube.positions[t0[1]]) * 0.5;
+    const littoral::Point3 centre{0, 0, 0.5};
+    cube.positions.push_back(mid + (mid - centre) * 3.0);
+    cube.triangles.push_back({t0[0], t0[1], static_cast<uint32_t>(cube.positions.size() - 1)});
+    littoral::scenegen::writeMeshFile(dir_ / "fin.off", cube);
+    CommandResult r = runLittoral("check-mesh " + q(dir_ / "fin.off"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "not manifold: 1 edges are shared by three or more faces")) << r.output;
+    EXPECT_TRUE(contains(r.output, "self-intersections 0")) << r.output;
+    EXPECT_FALSE(contains(r.output, "self-intersecting")) << r.output;
+    EXPECT_TRUE(contains(r.output, "volume n/a (the mesh does not bound a volume)")) << r.output;
+    littoral::TriMesh open = littoral::scenegen::makeBox(1, 1, 1);
+    open.faceMaterial.clear();
+    open.triangles.pop_back();
+    littoral::scenegen::writeMeshFile(dir_ / "open.obj", open);
+    r = runLittoral("check-mesh --json " + q(dir_ / "open.obj"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_TRUE(contains(r.output, "\"volume_m3\": null")) << r.output;
+}
