@@ -25,12 +25,15 @@ RenderMemory estimateRenderMemory(const ir::SceneIR& s, const std::string& onlyS
         it.what = fmt::format("sensor '{}' ({} x {} px x {:.0f} bands)", c.name, c.width, c.height, bands);
         m.items.push_back(it);
     }
-    if (s.render.surfacePhotons > 0)
-        m.items.push_back({MemoryItem::Kind::SurfacePhotons, 0, kPhotonRecordBytes * double(s.render.surfacePhotons),
-                           fmt::format("{} surface photons ({:.0f} B each)", s.render.surfacePhotons, kPhotonRecordBytes)});
-    if (s.render.volumePhotons > 0)
-        m.items.push_back({MemoryItem::Kind::VolumePhotons, 0, kPhotonRecordBytes * double(s.render.volumePhotons),
-                           fmt::format("{} volume photons ({:.0f} B each)", s.render.volumePhotons, kPhotonRecordBytes)});
+    for (const bool surface : {true, false}) {
+        const uint64_t n = (surface ? s.render.surfacePhotons : s.render.volumePhotons).value_or(0);
+        if (n == 0) continue;
+        const double each = photonRecordBytes(surface, s.render.bands.size());
+        m.items.push_back({surface ? MemoryItem::Kind::SurfacePhotons : MemoryItem::Kind::VolumePhotons, 0,
+                           kPhotonGridOverhead * each * static_cast<double>(n),
+                           fmt::format("{} {} photons ({:.0f} B each plus the search grid)", n,
+                                       surface ? "surface" : "volume", each)});
+    }
     for (const auto& it : m.items) m.total += it.bytes;
     // Writing one sensor: encoded EXR, ENVI copy and its bytes, about three films.
     m.total += 3.0 * largestFilm;

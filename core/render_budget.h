@@ -7,7 +7,10 @@
 // and the truth images (material id, range, depth: 12 bytes per pixel, computed twice: once to
 // validate every view first, once with the radiance) until all files are written; writing one
 // sensor adds about three more copies of its film (the encoded EXR, the ENVI band-sequential
-// copy and its bytes). Photon maps store kPhotonRecordBytes per photon.
+// copy and its bytes). Photon maps store photonRecordBytes() per photon (render/photon_map.h:
+// position, octahedral direction and one half-float power per band of the largest band group),
+// times kPhotonGridOverhead for the hash grid and the last chunk's overshoot.
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,7 +20,14 @@
 
 namespace littoral {
 
-inline constexpr double kPhotonRecordBytes = 32.0;  // position, direction, power, flags
+inline constexpr int kPhotonGroupBandsMax = 16;      // render/spectral.h kMaxGroupBands
+inline constexpr double kPhotonGridOverhead = 1.3;
+// Bytes of one stored photon with `bands` bands per group: 12 (position) + 4 (direction) + 2 per
+// band, and 4 more (surface normal) on a surface photon.
+inline double photonRecordBytes(bool surface, size_t bands) {
+    const double b = static_cast<double>(std::min<size_t>(std::max<size_t>(bands, 1), kPhotonGroupBandsMax));
+    return (surface ? 20.0 : 16.0) + 2.0 * b;
+}
 
 struct MemoryItem {
     enum class Kind { Sensor, SurfacePhotons, VolumePhotons };

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/render_budget.h"
 #include "core/resource_limits.h"
 #include "core/suggest.h"
 #include "core/units.h"
@@ -120,18 +121,21 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
                 c.photonMaxBounces = r.get(s.photonMaxBounces, "photon_max_bounces", 200, 1, 100000);
                 c.passes = r.get(s.progressivePasses, "progressive_passes", 1, 1, 100000);
                 c.alpha = r.get(s.progressiveAlpha, "progressive_alpha", 2.0 / 3.0, 0.05, 0.99);
-                // The maps of the largest band group must fit in the memory budget.
-                const int bands = std::min<int>(static_cast<int>(s.bands.size()), kMaxGroupBands);
-                const double need =
-                    static_cast<double>(c.surfacePhotons) * (20 + 2 * bands) + static_cast<double>(c.volumePhotons) * (16 + 2 * bands);
+                // The maps of the largest band group must fit in the memory budget (the same
+                // estimate check-scene uses, core/render_budget.h).
+                static_assert(kMaxGroupBands == kPhotonGroupBandsMax);
+                const double sb = photonRecordBytes(true, s.bands.size()), vb = photonRecordBytes(false, s.bands.size());
+                const double need = kPhotonGridOverhead * (static_cast<double>(c.surfacePhotons) * sb +
+                                                           static_cast<double>(c.volumePhotons) * vb);
                 const double budget = static_cast<double>(memoryBudget());
-                if (need * 1.3 > budget)  // records plus grid and chunk overshoot (photonMapBytes)
-                    r.fail(c.volumePhotons * (16 + 2 * bands) > c.surfacePhotons * (20 + 2 * bands) ? "volume_photons" : "surface_photons",
-                           fmt::format("{} surface and {} volume photons need {} ({} and {} bytes each with {} "
-                                       "band(s), plus the search grid), more than the memory budget of {} "
-                                       "(--max-memory)",
-                                       c.surfacePhotons, c.volumePhotons, formatBytes(need * 1.3), 20 + 2 * bands,
-                                       16 + 2 * bands, bands, formatBytes(budget)));
+                if (need > budget)
+                    r.fail(static_cast<double>(c.volumePhotons) * vb > static_cast<double>(c.surfacePhotons) * sb
+                               ? "volume_photons"
+                               : "surface_photons",
+                           fmt::format("{} surface and {} volume photons need {} ({:.0f} and {:.0f} bytes each, plus "
+                                       "the search grid), more than the memory budget of {} (--max-memory)",
+                                       c.surfacePhotons, c.volumePhotons, formatBytes(need), sb, vb,
+                                       formatBytes(budget)));
             }
             r.finish("dirsig", surfacePM < 0 && mediumPM < 0
                                    ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read only "

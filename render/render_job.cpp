@@ -73,7 +73,7 @@ struct ProgressiveState {
 };
 
 void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st) {
-    std::filesystem::create_directories(dir);
+    createOutputFolder(dir);
     nlohmann::json j;
     j["format"] = "littoral-progressive-checkpoint";
     j["ir_hash"] = std::to_string(st.irHash);
@@ -89,6 +89,9 @@ void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st
                             std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double)));
     }
     writeTextFileAtomic(dir / "state.json", j.dump(1) + "\n");
+    // A checkpoint exists to survive an interrupted or failed run: it is published at once
+    // instead of waiting for the command's output set (core/atomic_file.h).
+    publishStagedOutputs();
 }
 
 ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash) {
@@ -220,6 +223,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         writeTextFileAtomic(outDir / files[1], probesJson(res.probes, scene.bands()));
         for (const std::string& f : files) res.written.push_back(outDir / f);
     }
+    std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
     return res;
 }
