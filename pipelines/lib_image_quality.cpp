@@ -133,15 +133,19 @@ EdgeMeasures analyseEdge(const std::vector<float>& plane, const PixelGrid& g, co
     const int peakEsf = peak + 1;  // lsf[i] sits at esfX[i + 1]
     m.width1090 = crossing(m.esfX, sm, peakEsf, +1, lo + 0.1 * (hi - lo)) -
                   crossing(m.esfX, sm, peakEsf, -1, lo + 0.9 * (hi - lo));
-    auto esfAt = [&](double x) {
-        if (x <= m.esfX.front()) return sm.front();
-        if (x >= m.esfX.back()) return sm.back();
-        const size_t k = std::upper_bound(m.esfX.begin(), m.esfX.end(), x) - m.esfX.begin();
-        const double t = (x - m.esfX[k - 1]) / (m.esfX[k] - m.esfX[k - 1]);
-        return sm[k - 1] + t * (sm[k] - sm[k - 1]);
-    };
+    // Tails: the share of the step still missing, on average, between tailFrom and 2 tailFrom on
+    // either side of the LSF's peak (window means keep the ESF's noise down).
     const double xp = m.lsfX[peak];
-    m.tailFraction = hi != lo ? 1.0 - (esfAt(xp - o.tailFrom) - esfAt(xp + o.tailFrom)) / (hi - lo) : NAN;
+    auto windowMean = [&](double a, double b) {
+        double s = 0;
+        int c = 0;
+        for (int i = 0; i < n; ++i)
+            if (m.esfX[i] >= a && m.esfX[i] <= b) s += sm[i], ++c;
+        return c ? s / c : NAN;
+    };
+    const double eBright = windowMean(xp - 2 * o.tailFrom, xp - o.tailFrom);
+    const double eDark = windowMean(xp + o.tailFrom, xp + 2 * o.tailFrom);
+    m.tailFraction = hi != lo ? 1.0 - (eBright - eDark) / (hi - lo) : NAN;
     return m;
 }
 
@@ -166,10 +170,13 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
     const double th = kHeadingDeg * M_PI / 180;
     EdgeGeometry edge;
     edge.nx = std::cos(th), edge.ny = -std::sin(th);  // object +x (the dark half) in world coordinates
-    edge.halfLength = 0.5 * target - 0.5;
     PixelGrid grid{o.pixels, o.pixels, kGsd, -0.5 * side, 0.5 * side};
-    EdgeAnalysisOptions ea;
-    ea.regionWidth = std::min(3.0, 0.5 * target - 1.0 - 0.5);
+    const EdgeAnalysisOptions ea;
+    for (double r : o.radii)
+        if (0.5 * target - 2 * std::max(0.5, r + 0.25) < 0.5)
+            throw InputError(fmt::format("--radii: {} m is too large for the {} m target of a {}-pixel image; allowed up "
+                                         "to {:.2f} m (or more --pixels)",
+                                         r, target, o.pixels, (0.5 * target - 0.5) / 2 - 0.25));
 
     std::vector<ImageQualityRow> rows;
     const size_t total = o.depths.size() * o.radii.size() * o.densities.size();
@@ -183,11 +190,15 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
                 scenegen::writeMeshFile(dir / "step_target.ply", scenegen::makeStepTarget(target, 0.5));
                 const long long nv = std::llround(density * volume);
                 const long long ns = std::llround(o.surfacePerVolume * density * side * side);
-                // The margin grows with the radius: the side regions must not see the other half
-                // through the search radius.
+                // The margin grows with the radius: the side regions keep a search radius and a pixel
+                // away from the step edge and from the target's outer edges, so that neither the
+                // other half nor the seabed around the target reaches them through the search disc
+                // (that is edge bias, measured by the ESF, not noise).
                 EdgeAnalysisOptions eo = ea;
                 eo.margin = std::max(0.5, radius + 0.25);
-                eo.regionWidth = std::max(0.5, std::min(ea.regionWidth, 0.5 * target - 0.5 - eo.margin));
+                eo.regionWidth = std::min(3.0, 0.5 * target - 2 * eo.margin);
+                EdgeGeometry ed = edge;
+                ed.halfLength = 0.5 * target - eo.margin;
                 const std::string yaml = fmt::format(
                     "# Chapter 9 image-quality study: step target {depth} m deep, {dens} volume photons/m^3, search "
                     "radius {r} m\n"
@@ -235,7 +246,7 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
                 const auto res = render::runRenderJob(built.ir, dir / "ir", dir, jo);
                 LITTORAL_CHECK(res.images.size() == 1);
                 ImageQualityRow row{depth, radius, density, ns, nv,
-                                    analyseEdge(res.images[0].film.bandPlane(0), grid, edge, eo), 0};
+                                    analyseEdge(res.images[0].film.bandPlane(0), grid, ed, eo), 0};
                 row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 if (o.progress)
                     log::info("image quality {}/{}: depth {} m, {} photons/m^3, radius {} m: SNR bright {:.1f}, dark "

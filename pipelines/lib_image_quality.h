@@ -44,7 +44,8 @@ struct EdgeMeasures {
     std::vector<double> lsfX, lsf;    // LSF (derivative of the smoothed ESF, normalised to a unit area)
     double fwhm = 0;                  // FWHM of the LSF, m
     double width1090 = 0;             // distance between the 10% and 90% points of the ESF, m
-    double tailFraction = 0;          // share of the LSF's area farther than `tailFrom` from its peak
+    double tailFraction = 0;          // share of the step still missing, on average, from tailFrom to
+                                      // 2 tailFrom on either side of the LSF's peak (the LSF's tails)
 };
 
 struct EdgeAnalysisOptions {
@@ -53,7 +54,7 @@ struct EdgeAnalysisOptions {
     double binWidth = 0.0625;  // m: ESF bin (a quarter of the study's 0.25 m GSD)
     double esfHalfRange = 3;   // m: ESF from -range to +range
     int smoothBins = 3;        // box-car width of the ESF smoothing, bins (odd)
-    double tailFrom = 0.5;     // m: the LSF's tails start this far from its peak
+    double tailFrom = 0.5;     // m: the tails window starts this far from the LSF's peak
 };
 
 // The ESF/LSF/SNR measures of one band plane (row-major, width x height) of a nadir image.
