@@ -314,8 +314,9 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
     // Radiance in the medium T (nm/nFar)^2 L_sun over a solid angle compressed by
     // (nFar/nm)^2 cos(theta_far)/cos(theta_medium) (etendue n^2 cos dOmega is conserved): beam
     // irradiance E_sun T cosA / cosW.
-    Spec atten = md.transmittance(toSurface, h.t, group_);
-    for (const auto& [leg, t] : legs) atten *= md.transmittance(leg, t, group_);
+    const bool eff = effectiveExtinction(medium);
+    Spec atten = md.transmittance(toSurface, h.t, group_, eff);
+    for (const auto& [leg, t] : legs) atten *= md.transmittance(leg, t, group_, eff);
     const double geom = T * cosA / cosW;
     for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i];
     beam.toSun = dir;

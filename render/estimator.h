@@ -121,6 +121,13 @@ protected:
     // no reflection and at most one transmission are covered by this estimate (SunChain).
     SunBeam sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, RandomStream& rng) const;
 
+    // Whether transmittance in `medium` uses the effective extinction a + b (1 - f) (the
+    // dissertation's effective scattering coefficient: scattering into the 0.01 sr forward cone
+    // counts as unscattered). The dirsig estimator says yes for MediumPM media when
+    // render.photons.effective_scattering is set, so that the direct sun, the camera rays and the
+    // volume map (which then stores no forward-cone events) agree.
+    virtual bool effectiveExtinction(int /*medium*/) const { return false; }
+
     // Radiance of the sky (and of the solar disc if withSun) seen along direction d.
     Spec environment(const Vec3& d, bool withSun) const;
     Spec bandValues(const std::vector<double>& v) const;

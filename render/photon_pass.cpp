@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <cstdio>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -99,20 +101,33 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
         ray.o = {src.x0 + ux * src.lx, src.y0 + uy * src.ly, src.z};
         if (fromSun) ray.d = -sun.sampleDirection(u1, u2);
         else ray.d = -sampleCosineHemisphere(u1, u2);
-        // The sources light an infinite horizontal plane; the domain receives the part of it whose
-        // first landing point lies inside. A photon whose first hit (or, if it hits nothing, its
-        // crossing of the scene's lowest level) falls outside is moved by whole domain periods so
-        // that it falls inside: uniform emission over one period of an infinite plane, so every
-        // point of the domain sees the whole sky and sun, however close to the domain's edge and
-        // however grazing the light (periodic domains are exactly this; elsewhere the scene around
-        // the first landing point stands in for the scene outside the domain).
-        for (int tries = 0; tries < 3 && ray.d.z < 0; ++tries) {
+        // The sources light an infinite horizontal plane, and the domain stands for one period of
+        // it: the air above the scene is periodic too. A photon that would leave the domain's plan
+        // view before its first hit continues from the opposite side (up to 256 times; only
+        // grazing sky photons need more), so it lands inside, wherever it started and however
+        // grazing the light. (Moving the origin by whole periods instead, from where the ray
+        // would land, misjudges rays that miss the scene outside the domain: they were lost
+        // under the scene, 0.104 m / L of the sun's photons for a 60 degree sun 0.06 m above a
+        // flat sea, 5% of a 2 m domain.) Periodic domains are exactly this; in bounded ones the
+        // scene around the landing point stands in for the scene outside the domain.
+        for (int k = 0; k < 256 && ray.d.z < 0; ++k) {
             SurfaceHit first;
-            const Point3 c = scene.geometry().intersect(ray, &first) ? first.p : ray.at((src.zLow - ray.o.z) / ray.d.z);
-            const double kx = std::floor((c.x - src.x0) / src.lx), ky = std::floor((c.y - src.y0) / src.ly);
-            if (kx == 0 && ky == 0) break;
-            ray.o.x -= kx * src.lx;
-            ray.o.y -= ky * src.ly;
+            const double tHit =
+                scene.geometry().intersect(ray, &first) ? first.t : (src.zLow - ray.o.z) / ray.d.z;
+            double tExit = ir::kInfinity;
+            int axis = -1;
+            auto exitAt = [&](double o, double d, double lo, double len, int ax) {
+                if (d == 0) return;
+                const double t = ((d > 0 ? lo + len : lo) - o) / d;
+                if (t < tExit) tExit = t, axis = ax;
+            };
+            exitAt(ray.o.x, ray.d.x, src.x0, src.lx, 0);
+            exitAt(ray.o.y, ray.d.y, src.y0, src.ly, 1);
+            if (axis < 0 || tHit <= tExit) break;
+            Point3 p = ray.at(tExit);
+            if (axis == 0) p.x = ray.d.x > 0 ? src.x0 : src.x0 + src.lx;
+            else p.y = ray.d.y > 0 ? src.y0 : src.y0 + src.ly;
+            ray.o = p;
         }
         // Relative power: Phi_source,b / (P(source) Phi_mean).
         Spec w = (fromSun ? src.sunFlux * (1.0 / src.pSun) : src.skyFlux * (1.0 / (1.0 - src.pSun))) * (1.0 / src.meanFlux);
@@ -251,6 +266,18 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     };
     scale(maps.surface, maps.emittedSurface);
     scale(maps.volume, maps.emittedVolume);
+    if (std::getenv("LITTORAL_DEBUG_SLAB")) {  // TEMP
+        double sum = 0; size_t cnt = 0, outside = 0;
+        for (size_t i = 0; i < maps.volume.size(); ++i) {
+            const double z = maps.volume.position(i).z;
+            if (z > -1.5 && z < -0.5) sum += maps.volume.power(i, 0) * maps.volume.fluxScale[0], ++cnt;
+            const Point3 q = maps.volume.position(i);
+            if (q.x < src.x0 - 1e-4 || q.x > src.x0 + src.lx + 1e-4 || q.y < src.y0 - 1e-4 || q.y > src.y0 + src.ly + 1e-4) ++outside;
+        }
+        fprintf(stderr, "DEBUG outside %zu of %zu\n", outside, maps.volume.size());
+        fprintf(stderr, "DEBUG slab photons %zu sum %g per m3 %g emitted %llu area %g\n", cnt, sum, sum / (src.area * 1.0),
+                (unsigned long long)maps.emittedVolume, src.area);
+    }
     statCounter("photons emitted").add(static_cast<int64_t>(maps.emitted));
     statCounter("photons stored (surface)").add(static_cast<int64_t>(maps.surface.size()));
     statCounter("photons stored (volume)").add(static_cast<int64_t>(maps.volume.size()));
