@@ -140,11 +140,19 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
         };
         for (;;) {
             SurfaceHit h;
-            const bool hit = scene.geometry().intersect(ray, &h);
+            bool hit;
             const Medium& md = scene.media()[medium];
             if (md.scattering()) {
+                // The free flight first, then the geometry only up to it: a short ray that misses
+                // costs Embree a fraction of a full one. If a surface comes first, the flight is
+                // sampled again to it with the same numbers (the same collision depth, now beyond
+                // the surface: the photon reaches it with weight T / P(no event)).
                 const double uBand = rng.uniform(), uDist = rng.uniform();
-                const FreeFlight ff = md.sampleFreeFlight(ray, hit ? h.t : ir::kInfinity, g, uBand, uDist);
+                FreeFlight ff = md.sampleFreeFlight(ray, ir::kInfinity, g, uBand, uDist);
+                Ray limited = ray;
+                if (ff.scattered) limited.tMax = ff.t;
+                hit = scene.geometry().intersect(limited, &h);
+                if (hit) ff = md.sampleFreeFlight(ray, h.t, g, uBand, uDist);
                 w *= ff.weight;
                 if (ff.scattered) {
                     if (w.isBlack() || ++events > st.maxBounces) return;
@@ -164,8 +172,11 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
                 }
                 if (w.isBlack()) return;
             } else if (md.attenuating()) {
+                hit = scene.geometry().intersect(ray, &h);
                 if (!hit) return;
                 w *= md.transmittance(ray, h.t, g);
+            } else {
+                hit = scene.geometry().intersect(ray, &h);
             }
             if (!hit) return;
             const MaterialData& m = scene.material(h);
@@ -211,19 +222,47 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     };
 
     const int threads = st.threads > 0 ? st.threads : tbb::info::default_concurrency();
-    const uint64_t wave = static_cast<uint64_t>(std::max(8, threads * 8));
+    // Chunks are traced in waves: the first has one chunk per thread; later ones as many as the
+    // stored rate so far says the open maps still need (rounded up to whole rounds of the
+    // threads, at most 8 rounds), so a small target does not trace a wave it then discards. The
+    // maps depend only on the chunks appended in order, not on the waves.
+    const uint64_t perRound = static_cast<uint64_t>(std::max(2, threads));
     std::unique_ptr<Progress> progress;
     const uint64_t goal = std::max(st.surfaceTarget, st.volumeTarget);
     if (st.progress) progress = std::make_unique<Progress>("photons", goal, "photons");
     bool closedS = !wantS, closedV = !wantV;
     uint64_t chunk0 = 0;
+    std::vector<ChunkResult> results;
+    // The maps' final size is known to within a chunk: reserving it makes appending one copy.
+    // (Capped by the memory budget's check of the targets, render/estimator.cpp.)
+    if (wantS) maps.surface.reserve(static_cast<size_t>(std::min<uint64_t>(st.surfaceTarget + st.surfaceTarget / 16 + 4 * kChunk, uint64_t{1} << 34)));
+    if (wantV) maps.volume.reserve(static_cast<size_t>(std::min<uint64_t>(st.volumeTarget + st.volumeTarget / 16 + 4 * kChunk, uint64_t{1} << 34)));
     tbb::task_arena arena(st.threads > 0 ? st.threads : tbb::task_arena::automatic);
     while (!(closedS && closedV) && chunk0 * kChunk < maxEmitted) {
-        std::vector<ChunkResult> results(wave);
-        for (auto& r : results) {
-            r.surface = PhotonMap(g.count, true);
-            r.volume = PhotonMap(g.count, false);
+        uint64_t wave = perRound;
+        if (chunk0 > 0) {
+            double need = 0;
+            auto still = [&](bool closed, uint64_t have, uint64_t target) {
+                if (closed) return;
+                const double perChunk = static_cast<double>(have) / static_cast<double>(chunk0);
+                need = std::max(need, perChunk > 0 ? static_cast<double>(target - have) / perChunk : 1e18);
+            };
+            still(closedS, maps.surface.size(), st.surfaceTarget);
+            still(closedV, maps.volume.size(), st.volumeTarget);
+            const double rounds = std::ceil(std::min(need * 1.05 + 1, 1e12) / static_cast<double>(perRound));
+            wave = perRound * static_cast<uint64_t>(std::clamp(rounds, 1.0, 8.0));
         }
+        // Chunk buffers are reused from wave to wave (no fresh pages, no regrowth once they have
+        // seen a chunk's worth), and the maps are reserved for their targets plus a chunk.
+        if (results.size() < wave) {
+            const size_t old = results.size();
+            results.resize(wave);
+            for (size_t k = old; k < wave; ++k) {
+                results[k].surface = PhotonMap(g.count, true);
+                results[k].volume = PhotonMap(g.count, false);
+            }
+        }
+        for (uint64_t k = 0; k < wave; ++k) results[k].surface.clear(), results[k].volume.clear();
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<uint64_t>(0, wave, 1), [&](const tbb::blocked_range<uint64_t>& rr) {
                 for (uint64_t c = rr.begin(); c != rr.end(); ++c) {
