@@ -183,6 +183,9 @@ std::string toJsonText(const SceneIR& s) {
         if (m.type == Material::Type::RoughDielectric) {
             mj["wind_speed_mps"] = m.windSpeed;
             mj["wind_azimuth_rad"] = m.windAzimuth;
+            mj["sea"] = nm(m.sea);
+            mj["gram_charlier"] = m.gramCharlier;
+            mj["shadowing"] = nm(m.shadowing);
         }
         mats.push_back(mj);
     }
@@ -486,7 +489,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     auto mats = r["materials"];
     for (size_t i = 0; i < mats.size(); ++i) {
         auto m = mats.at(i);
-        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad"});
+        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad", "sea",
+                      "gram_charlier", "shadowing"});
         Material mt;
         mt.name = m["name"].str();
         mt.type = m["type"].choice<Material::Type>();
@@ -505,6 +509,9 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         }
         if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
         if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
+        if (m.has("sea")) mt.sea = m["sea"].choice<CoxMunkSea>();
+        if (m.has("gram_charlier")) mt.gramCharlier = m["gram_charlier"].boolean();
+        if (m.has("shadowing")) mt.shadowing = m["shadowing"].choice<MicrofacetShadowing>();
         s.materials.push_back(mt);
     }
     auto meshes = r["meshes"];

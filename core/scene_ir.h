@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/names.h"
@@ -97,9 +98,14 @@ struct Material {
     std::string texture;
     double textureX0 = 0, textureY0 = 0, textureX1 = 1, textureY1 = 1;
     // RoughDielectric: Cox–Munk wind speed at 12.5 m (m/s) and the azimuth the wind blows toward,
-    // counter-clockwise from +x (east), radians.
+    // counter-clockwise from +x (east), radians; which Cox–Munk fit gives the slope variances,
+    // whether the Gram–Charlier terms are on (clean sea only) and the microfacet shadowing term
+    // (render/rough_dielectric.h).
     double windSpeed = 0.0;
     double windAzimuth = 0.0;
+    CoxMunkSea sea = CoxMunkSea::Clean;
+    bool gramCharlier = false;
+    MicrofacetShadowing shadowing = MicrofacetShadowing::None;
     SourceLoc origin;  // where a scene file defined it (not serialised; for messages)
 };
 

@@ -213,6 +213,32 @@ Estimator::Estimator(const Scene& scene, const RenderConfig& config, BandGroup g
     LITTORAL_CHECK(group.count >= 1 && group.count <= kMaxGroupBands);
     LITTORAL_CHECK(group.begin >= 0 && group.begin + group.count <= scene.bandCount());
     LITTORAL_CHECK_EQ(config.solvers.size(), scene.materials().size());
+    // A medium under a rough interface: the inside medium of a mesh that uses a rough material, whose
+    // outside is a non-attenuating medium (the air the sun shines through). Its sun estimates use
+    // the first such interface's lobe for sampling (the facet actually hit weights them).
+    const size_t nm = scene.media().size();
+    roughSunMaterial_.assign(nm, -1);
+    roughProto_.assign(nm, std::nullopt);
+    roughFrame_.assign(nm, Frame{});
+    const auto& meshes = scene.ir().meshes;
+    for (size_t mi = 0; mi < meshes.size(); ++mi) {
+        const int in = scene.insideMedium(static_cast<int>(mi)), out = scene.outsideMedium(static_cast<int>(mi));
+        if (in == out || roughSunMaterial_[static_cast<size_t>(in)] >= 0) continue;
+        const Medium& outside = scene.media()[static_cast<size_t>(out)];
+        if (outside.attenuating()) continue;
+        for (const std::string& name : meshes[mi].materials) {
+            int k = -1;
+            for (size_t j = 0; j < scene.materials().size(); ++j)
+                if (scene.materials()[j].name == name) k = static_cast<int>(j);
+            if (k < 0 || !scene.materials()[static_cast<size_t>(k)].isRough()) continue;
+            roughSunMaterial_[static_cast<size_t>(in)] = k;
+            roughProto_[static_cast<size_t>(in)] =
+                scene.roughBxdf(k, outside.n(group.begin), scene.media()[static_cast<size_t>(in)].n(group.begin));
+            roughFrame_[static_cast<size_t>(in)] =
+                Frame::fromNormalAndTangent(Vec3{0, 0, 1}, scene.materials()[static_cast<size_t>(k)].downwind);
+            break;
+        }
+    }
 }
 
 std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderConfig& config, BandGroup group,
@@ -269,9 +295,81 @@ Spec Estimator::environment(const Vec3& d, bool withSun) const {
     return L;
 }
 
-Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const {
+double Estimator::misSunWeight(double bsdfPdf) const {
+    switch (config_.glossySun) {
+        case RenderConfig::GlossySun::NeeOnly: return 0.0;
+        case RenderConfig::GlossySun::BsdfOnly: return 1.0;  // (no estimate was made: glossyPdf is never set)
+        case RenderConfig::GlossySun::Mis: break;
+    }
+    // Power heuristic (Veach 1997, eq. 9.13, beta = 2) against the disc's uniform density 1/Omega.
+    const double pl = 1.0 / scene_.sun().solidAngle;
+    return bsdfPdf * bsdfPdf / (bsdfPdf * bsdfPdf + pl * pl);
+}
+
+Spec Estimator::environment(const Vec3& d, const SunChain& chain) const {
+    Spec L = environment(d, false);
+    const SunSource& sun = scene_.sun();
+    if (!chain.countsSun() || !sun.inDisc(d)) return L;
+    const double w = chain.glossyPdf > 0 ? misSunWeight(chain.glossyPdf) : 1.0;
+    if (w <= 0) return L;
+    for (int i = 0; i < group_.count; ++i) L[i] += w * sun.irradiance[group_.begin + i] / sun.solidAngle;
+    return L;
+}
+
+SunChain Estimator::chainAfterVertex(int medium) const { return SunChain::afterVertex(roughSun(medium)); }
+
+bool Estimator::traceToInterface(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h,
+                                 Spec* atten) const {
+    const Medium& md = scene_.media()[medium];
+    Ray toSurface = spawnRay(p, ng, dir);
+    std::vector<std::pair<Ray, double>> legs;
+    for (int w = 0;; ++w) {
+        if (!scene_.geometry().intersect(toSurface, h)) return false;
+        if (!scene_.material(*h).isPeriodicWall()) break;
+        const auto next = scene_.wrapRay(*h, dir);
+        if (!next || w >= Scene::kMaxWraps) return false;
+        legs.emplace_back(toSurface, h->t);
+        toSurface = *next;
+    }
+    if (!scene_.material(*h).isInterface()) return false;
+    if (scene_.nearMedium(*h) != medium) return false;
+    if (scene_.media()[scene_.farMedium(*h)].attenuating()) return false;
+    *atten = md.transmittance(toSurface, h->t, group_);
+    for (const auto& [leg, t] : legs) *atten *= md.transmittance(leg, t, group_);
+    return true;
+}
+
+Estimator::SunBeam Estimator::roughSunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium,
+                                            const Vec3& ws, double pdf) const {
     SunBeam beam;
-    beam.E = Spec(group_.count);
+    beam.E = beam.L = Spec(group_.count);
+    SurfaceHit h;
+    Spec atten;
+    if (!traceToInterface(p, ng, dir, medium, &h, &atten)) return beam;
+    if (!scene_.material(h).isRough()) return beam;  // a smooth facet refracts the disc into a set of measure zero
+    const Frame frame = scene_.shadingFrame(h);
+    const BxDF bxdf = scene_.bxdf(h, group_);
+    const Vec3 wo = frame.toLocal(-dir), wi = frame.toLocal(ws);
+    // Radiance mode: the light arrives from ws and leaves toward p (the n^2 law included).
+    const double f = bxdf.f(wo, wi, TransportMode::Radiance);
+    if (!(f > 0)) return beam;
+    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, ws))) return beam;
+    // One point of the disc sampled with density 1/Omega_sun: radiance f L_sun |cos| / (1/Omega)
+    // = f E_sun |cos theta_i| at the point (and the medium's transmittance on the way).
+    const SunSource& sun = scene_.sun();
+    const double g = f * std::abs(wi.z);
+    for (int i = 0; i < group_.count; ++i) beam.L[i] = sun.irradiance[group_.begin + i] * g * atten[i];
+    beam.toSun = dir;
+    beam.pdf = pdf;
+    if (pdf > 0) beam.E = beam.L * (1.0 / pdf);
+    beam.valid = true;
+    return beam;
+}
+
+Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium,
+                                       const Vec2& uDisc) const {
+    SunBeam beam;
+    beam.E = beam.L = Spec(group_.count);
     const SunSource& sun = scene_.sun();
     if (!sun.enabled) return beam;
     const Medium& md = scene_.media()[medium];
@@ -280,28 +378,25 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
         // In air: a straight shadow ray.
         if (!sun.inDisc(dir) || scene_.geometry().occluded(spawnRay(p, ng, dir))) return beam;
         beam.E = bandValues(sun.irradiance);
+        beam.L = beam.E * (1.0 / sun.solidAngle);
         beam.toSun = dir;
-        beam.solidAngle = sun.solidAngle;
+        beam.pdf = 1.0 / sun.solidAngle;
         beam.valid = true;
         return beam;
     }
+    if (roughSun(medium)) {
+        // The disc point uDisc, and the density with which sunBeam would have chosen dir for it.
+        const Vec3 ws = sun.sampleDirection(uDisc.x, uDisc.y);
+        const Frame& F = roughFrame_[static_cast<size_t>(medium)];
+        const double pdf = roughProto_[static_cast<size_t>(medium)]->pdf(F.toLocal(ws), F.toLocal(-dir));
+        return roughSunAlong(p, ng, dir, medium, ws, pdf);
+    }
     // In a denser medium: follow dir up, through periodic walls, to the interface above.
     SurfaceHit h;
-    Ray toSurface = spawnRay(p, ng, dir);
-    std::vector<std::pair<Ray, double>> legs;
-    for (int w = 0;; ++w) {
-        if (!scene_.geometry().intersect(toSurface, &h)) return beam;
-        if (!scene_.material(h).isPeriodicWall()) break;
-        const auto next = scene_.wrapRay(h, dir);
-        if (!next || w >= Scene::kMaxWraps) return beam;
-        legs.emplace_back(toSurface, h.t);
-        toSurface = *next;
-    }
-    if (!scene_.material(h).isInterface()) return beam;
-    if (scene_.nearMedium(h) != medium) return beam;
-    const Medium& far = scene_.media()[scene_.farMedium(h)];
-    if (far.attenuating()) return beam;
-    const double nFar = far.n(group_.begin);
+    Spec atten;
+    if (!traceToInterface(p, ng, dir, medium, &h, &atten)) return beam;
+    if (scene_.material(h).isRough()) return beam;  // (only with roughSun(medium), handled above)
+    const double nFar = scene_.media()[scene_.farMedium(h)].n(group_.begin);
     const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
     const double cosW = std::abs(dot(dir, nf));
     Vec3 out;
@@ -314,12 +409,12 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
     // Radiance in the medium T (nm/nFar)^2 L_sun over a solid angle compressed by
     // (nFar/nm)^2 cos(theta_far)/cos(theta_medium) (etendue n^2 cos dOmega is conserved): beam
     // irradiance E_sun T cosA / cosW.
-    Spec atten = md.transmittance(toSurface, h.t, group_);
-    for (const auto& [leg, t] : legs) atten *= md.transmittance(leg, t, group_);
     const double geom = T * cosA / cosW;
     for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i];
+    const double solidAngle = sun.solidAngle * sqr(nFar / nm) * cosA / cosW;
+    beam.L = beam.E * (1.0 / solidAngle);
     beam.toSun = dir;
-    beam.solidAngle = sun.solidAngle * sqr(nFar / nm) * cosA / cosW;
+    beam.pdf = 1.0 / solidAngle;
     beam.valid = true;
     return beam;
 }
@@ -327,13 +422,28 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
 Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium,
                                       RandomStream& rng) const {
     SunBeam none;
-    none.E = Spec(group_.count);
+    none.E = none.L = Spec(group_.count);
     const SunSource& sun = scene_.sun();
-    // Draw the two numbers unconditionally so the random stream layout does not depend on
-    // geometry (keeps neighbouring pixels' streams aligned).
+    // Draw the numbers unconditionally so the random stream layout does not depend on geometry
+    // (keeps neighbouring pixels' streams aligned).
     const double u1 = rng.uniform(), u2 = rng.uniform();
+    const bool rough = roughSun(medium);
+    double uc = 0, v1 = 0, v2 = 0;
+    if (rough) uc = rng.uniform(), v1 = rng.uniform(), v2 = rng.uniform();
     if (!sun.enabled) return none;
     const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
+    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
+    if (rough) {
+        // The transmission lobe of a horizontal rough surface lit from ws, sampled in importance
+        // mode (light travels from ws into the medium): dir points back up along it.
+        const Frame& F = roughFrame_[static_cast<size_t>(medium)];
+        const auto s = roughProto_[static_cast<size_t>(medium)]->sample(F.toLocal(ws), uc, Vec2{v1, v2},
+                                                                         TransportMode::Importance);
+        if (!s || !s->isTransmission() || !(s->pdf > 0)) return none;
+        const Vec3 dir = normalize(-F.toWorld(s->wi));
+        if (checkFacing && dot(dir, facing) <= 0) return none;
+        return roughSunAlong(p, ng, dir, medium, ws, s->pdf);
+    }
     const double nm = scene_.media()[medium].n(group_.begin);
     Vec3 dir = ws;
     if (nm != 1.0 || scene_.media()[medium].attenuating()) {
@@ -343,9 +453,59 @@ Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const 
         if (!refract(ws, Vec3{0, 0, 1}, 1.0 / nm, &wt)) return none;
         dir = normalize(-wt);
     }
-    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
     if (checkFacing && dot(dir, facing) <= 0) return none;
-    return sunAlong(p, ng, dir, medium);
+    return sunAlong(p, ng, dir, medium, Vec2{u1, u2});
+}
+
+Spec Estimator::glossySun(const SurfaceHit& h, const Frame& frame, const BxDF& bxdf, const Vec3& wo,
+                          const SunChain& chain, RandomStream& rng, int* neeSide) const {
+    Spec L(group_.count);
+    *neeSide = 0;
+    const double u1 = rng.uniform(), u2 = rng.uniform();  // drawn always (stream layout)
+    const SunSource& sun = scene_.sun();
+    if (!sun.enabled || config_.glossySun == RenderConfig::GlossySun::BsdfOnly) return L;
+    // The side of the surface where the sun is reached by a straight shadow ray: the one whose
+    // medium is air-like (index 1, nothing attenuates).
+    auto airLike = [&](int m) {
+        const Medium& md = scene_.media()[static_cast<size_t>(m)];
+        return md.n(group_.begin) == 1.0 && !md.attenuating();
+    };
+    const int out = scene_.outsideMedium(h.mesh), in = scene_.insideMedium(h.mesh);
+    const int side = airLike(out) ? +1 : airLike(in) ? -1 : 0;
+    if (side == 0) return L;
+    // Would the event that connects wo to that side (reflection if wo is on it, else a rough
+    // transmission) leave a chain whose disc counts? If not, an earlier vertex's estimate covers it.
+    SunChain after = chain;
+    if ((wo.z > 0) == (side > 0)) after.reflected = true;
+    else ++after.roughTransmissions;
+    if (!after.countsSun()) return L;
+    *neeSide = side;
+    const Vec3 ws = sun.sampleDirection(u1, u2);
+    const Vec3 wi = frame.toLocal(ws);
+    if (wi.z * side <= 0) return L;  // the sun is below this face
+    const double f = bxdf.f(wo, wi, TransportMode::Radiance);
+    if (!(f > 0)) return L;
+    const double pl = 1.0 / sun.solidAngle;
+    const double w = config_.glossySun == RenderConfig::GlossySun::NeeOnly
+                         ? 1.0
+                         : [&] {
+                               const double pb = bxdf.pdf(wo, wi, TransportMode::Radiance);
+                               return pl * pl / (pl * pl + pb * pb);  // power heuristic
+                           }();
+    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, ws))) return L;
+    // f L_sun |cos| / pdf_light, pdf_light = 1 / Omega: f E_sun |cos theta_i|.
+    const double g = w * f * std::abs(wi.z);
+    for (int i = 0; i < group_.count; ++i) L[i] = sun.irradiance[group_.begin + i] * g;
+    return L;
+}
+
+SunChain Estimator::chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide) const {
+    if (neeSide != 0 && (s.wi.z > 0) == (neeSide > 0)) return SunChain::afterGlossy(s.pdf);
+    SunChain c = chain;
+    c.glossyPdf = 0;
+    if (s.isTransmission()) ++c.roughTransmissions;
+    else c.reflected = true;
+    return c;
 }
 
 std::optional<Vec3> Estimator::refractedSunDirection(int medium) const {

@@ -26,7 +26,7 @@
 // The eta_o^2 carries the n^2 law of radiance (Sec. 4.0); in Importance mode it is eta_i^2, which
 // makes f_importance(wo, wi) = f_radiance(wi, wo), the adjoint BSDF (Veach 1997, ch. 5).
 //
-// Shadowing-masking term G (MicrofacetShadowing):
+// Shadowing-masking term G (MicrofacetShadowing, core/cox_munk_fit.h):
 //   None            G = 1: Eq. 5.4 and the dissertation's analytic predictions (the default).
 //   SmithLight      G = G1(direction the light arrives from): G1(wi) in Radiance mode, G1(wo) in
 //                   Importance mode; the adjoint relation above holds for it.
@@ -65,19 +65,6 @@
 #include "core/vec.h"
 #include "render/bxdf_types.h"
 #include "render/cox_munk.h"
-
-namespace littoral::render {
-enum class MicrofacetShadowing { None, SmithLight, SmithSeparable };
-}  // namespace littoral::render
-
-namespace littoral {
-template <> struct EnumNames<render::MicrofacetShadowing> {
-    using M = render::MicrofacetShadowing;
-    static constexpr std::string_view what = "microfacet shadowing";
-    static constexpr EnumName<M> table[] = {
-        {M::None, "none"}, {M::SmithLight, "smith-light"}, {M::SmithSeparable, "smith-separable"}};
-};
-}  // namespace littoral
 
 namespace littoral::render {
 

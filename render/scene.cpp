@@ -85,10 +85,27 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Dielectric:
                 d.reflectance.assign(bands_.size(), 0.0);
                 break;
-            case T::RoughDielectric:
-                throw InputError(fmt::format("{}: RoughDielectric (Cox–Munk) interfaces are not supported by this "
-                                             "renderer version; use a faceted Dielectric surface",
-                                             who));
+            case T::RoughDielectric: {
+                d.reflectance.assign(bands_.size(), 0.0);
+                // The frame of the BxDF has its x axis downwind (Scene::shadingFrame), so the
+                // distribution's own wind azimuth is 0.
+                CoxMunkParams p;
+                p.windSpeed = m.windSpeed;
+                p.windAzimuth = 0.0;
+                p.sea = m.sea;
+                p.gramCharlier = m.gramCharlier;
+                try {
+                    d.slopes.emplace(p, m.origin, "wind_speed");
+                } catch (const InputError& e) {
+                    if (!m.origin.file.empty()) throw InputError(m.origin, who + ": " + e.message());
+                    throw InputError(who + ": " + e.message());
+                }
+                d.shadowing = m.shadowing;
+                if (!std::isfinite(m.windAzimuth))
+                    throw InputError(fmt::format("{}: wind azimuth {} is not a finite angle", who, m.windAzimuth));
+                d.downwind = Vec3{std::cos(m.windAzimuth), std::sin(m.windAzimuth), 0.0};
+                break;
+            }
             case T::Periodic:
                 if (!ir.domain.periodic)
                     throw InputError(fmt::format("{}: a periodic wall needs a periodic domain (domain.horizontal: "
@@ -123,9 +140,20 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             if (s >= slots.size())
                 throw InputError(fmt::format("{}: a face uses material slot {} but the mesh lists {} materials", who,
                                              s, slots.size()));
+        const int in = mediumIndex(mesh.inside, who + " inside"), out = mediumIndex(mesh.outside, who + " outside");
+        // A rough interface refracts only between different indices (render/rough_dielectric.h).
+        for (int k : slots)
+            if (materials_[static_cast<size_t>(k)].isRough())
+                for (size_t b = 0; b < bands_.size(); ++b)
+                    if (std::abs(media_[static_cast<size_t>(in)].n(static_cast<int>(b)) -
+                                 media_[static_cast<size_t>(out)].n(static_cast<int>(b))) <= 1e-6)
+                        throw InputError(fmt::format("{}: rough interface '{}' between media of equal refractive index "
+                                                     "({}) in band {}; a rough interface needs different indices",
+                                                     who, materials_[static_cast<size_t>(k)].name,
+                                                     media_[static_cast<size_t>(in)].n(static_cast<int>(b)), b));
         meshMaterials_.push_back(std::move(slots));
-        meshInside_.push_back(mediumIndex(mesh.inside, who + " inside"));
-        meshOutside_.push_back(mediumIndex(mesh.outside, who + " outside"));
+        meshInside_.push_back(in);
+        meshOutside_.push_back(out);
     }
 
     sun_ = makeSun(ir.sun, bands_);
@@ -136,9 +164,31 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
 }
 
 BxDF Scene::bxdf(const SurfaceHit& h, BandGroup g) const {
-    if (materials_[materialIndex(h)].isInterface())
+    const MaterialData& m = materials_[materialIndex(h)];
+    if (m.isRough())
+        return roughBxdf(materialIndex(h), media_[meshOutside_[h.mesh]].n(g.begin), media_[meshInside_[h.mesh]].n(g.begin));
+    if (m.isInterface())
         return DielectricBxDF{media_[meshOutside_[h.mesh]].n(g.begin), media_[meshInside_[h.mesh]].n(g.begin)};
     return LambertianBxDF{1.0};
+}
+
+RoughDielectricBxDF Scene::roughBxdf(int material, double nOut, double nIn) const {
+    const MaterialData& m = materials_[static_cast<size_t>(material)];
+    LITTORAL_CHECK(m.slopes.has_value());
+    return RoughDielectricBxDF(nOut, nIn, *m.slopes, m.shadowing);
+}
+
+Frame Scene::shadingFrame(const SurfaceHit& h) const {
+    const MaterialData& m = materials_[materialIndex(h)];
+    if (m.isRough()) {
+        // Downwind projected on the face; on a face that is (nearly) vertical and facing downwind the
+        // projection vanishes, and the crosswind axis serves (the distribution is then rotated by
+        // 90 degrees on that face, which only a wall-like face can notice).
+        const Vec3 d = m.downwind - dot(m.downwind, h.ng) * h.ng;
+        if (dot(d, d) > 1e-12) return Frame::fromNormalAndTangent(h.ng, m.downwind);
+        return Frame::fromNormalAndTangent(h.ng, Vec3{-m.downwind.y, m.downwind.x, 0.0});
+    }
+    return Frame::fromNormal(h.ng);
 }
 
 Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {

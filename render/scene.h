@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frame.h"
 #include "core/scene_ir.h"
 #include "render/bxdf.h"
 #include "render/embree_scene.h"
@@ -34,8 +35,17 @@ struct MaterialData {
     std::optional<ir::Material::Solver> solver;  // as given (the dirsig estimator resolves defaults)
     std::vector<double> reflectance;  // per band (0 for interfaces and black)
     std::shared_ptr<const Texture> texture;
+    // RoughDielectric: the Cox–Munk slope distribution, built once (with Gram–Charlier terms its
+    // normalisation is a quadrature), in the frame whose x axis is the downwind direction
+    // (windAzimuth 0); `downwind` is that direction in the world (horizontal, unit).
+    std::optional<CoxMunkDistribution> slopes;
+    MicrofacetShadowing shadowing = MicrofacetShadowing::None;
+    Vec3 downwind{1, 0, 0};
     // Interfaces let light through to the mesh's other medium; everything else is opaque.
-    bool isInterface() const { return type == ir::Material::Type::Dielectric; }
+    bool isInterface() const {
+        return type == ir::Material::Type::Dielectric || type == ir::Material::Type::RoughDielectric;
+    }
+    bool isRough() const { return type == ir::Material::Type::RoughDielectric; }
     bool isOpaque() const { return !isInterface() && type != ir::Material::Type::Periodic; }
     bool isPeriodicWall() const { return type == ir::Material::Type::Periodic; }
 };
@@ -65,7 +75,16 @@ public:
     // The BxDF at a hit for the bands of g, in the hit's local frame (+z = the mesh's outward
     // normal): Lambertian with unit reflectance for diffuse materials (the per-band reflectance is
     // albedo()), a smooth dielectric between the mesh's outside and inside media for interfaces.
+    // Rough interfaces: the Cox–Munk microfacet BxDF (render/rough_dielectric.h) between the same
+    // two media, in the frame shadingFrame(h) returns.
     BxDF bxdf(const SurfaceHit& h, BandGroup g) const;
+    // The local frame of bxdf(h): +z the mesh's outward geometric normal; x along the downwind
+    // direction projected on the face for rough interfaces (the slope distribution is anisotropic),
+    // any tangent otherwise.
+    Frame shadingFrame(const SurfaceHit& h) const;
+    // The rough interface of material `material` seen as a horizontal surface (+z up, x downwind)
+    // between its mesh's media for the bands of g, for sampling directions before a hit is known.
+    RoughDielectricBxDF roughBxdf(int material, double nOut, double nIn) const;
     // Per-band diffuse reflectance at a hit (texture applied); zero for interfaces and black.
     Spec albedo(const SurfaceHit& h, BandGroup g) const;
     // Medium on the side of the hit the ray came from, and on the far side (interfaces).

@@ -45,6 +45,7 @@ std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const 
     throw InternalError("unknown bathymetry kind");
 }
 
+// The smooth air-water interface; water.surface.roughness makes it the rough (Cox-Munk) one.
 ir::Material interfaceMaterial() {
     ir::Material m;
     m.name = "air-water-interface";
@@ -202,9 +203,11 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     bool valid = true;
     if (spec.hasWater) {
         surfaces::WaveParams wp;
+        ir::Material interface = interfaceMaterial();
         if (spec.waterSurface) {
             wp = parseWaterSurface(*spec.waterSurface);
             checkSurfaceCoverage(wp, domain, spec.waterSurface->loc());
+            if (auto rough = parseSurfaceRoughness(*spec.waterSurface, wp, interface.name)) interface = *rough;
         } else {
             wp = defaultWaterSurface(domain);
         }
@@ -223,7 +226,7 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         in.terrainSpacing = bathy.spacing;
         in.terrainMaterials = terrainMaterials;
         in.terrainMaterialAt = materialAt;
-        in.interfaceMaterial = interfaceMaterial().name;
+        in.interfaceMaterial = interface.name;
         in.wallMaterial = wallMaterial(spec.periodic).name;
         for (const auto& p : placed) in.solids.push_back(p.solid);
         WaterVolumeResult wv = buildWaterVolume(in);
@@ -231,7 +234,7 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         out.seconds.waterTerrain = wv.secondsTerrain;
         out.seconds.waterBoolean = wv.secondsBoolean;
         out.seconds.waterSolids = wv.secondsSolids;
-        for (const auto& m : {interfaceMaterial(), wallMaterial(spec.periodic)})
+        for (const auto& m : {interface, wallMaterial(spec.periodic)})
             if (!known.count(m.name)) {
                 ir.materials.push_back(m);
                 known.insert(m.name);
