@@ -388,7 +388,7 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
         // The disc point uDisc, and the density with which sunBeam would have chosen dir for it.
         const Vec3 ws = sun.sampleDirection(uDisc.x, uDisc.y);
         const Frame& F = roughFrame_[static_cast<size_t>(medium)];
-        const double pdf = roughProto_[static_cast<size_t>(medium)]->pdf(F.toLocal(ws), F.toLocal(-dir));
+        const double pdf = roughProto_[static_cast<size_t>(medium)]->pdfTransmission(F.toLocal(ws), F.toLocal(-dir));
         return roughSunAlong(p, ng, dir, medium, ws, pdf);
     }
     // In a denser medium: follow dir up, through periodic walls, to the interface above.
@@ -434,15 +434,18 @@ Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const 
     const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
     const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
     if (rough) {
-        // The transmission lobe of a horizontal rough surface lit from ws, sampled in importance
-        // mode (light travels from ws into the medium): dir points back up along it.
+        // The transmission lobe of a horizontal rough surface lit from ws (light travels from ws
+        // into the medium; RoughDielectricBxDF::sampleTransmission): dir points back up along it.
         const Frame& F = roughFrame_[static_cast<size_t>(medium)];
-        const auto s = roughProto_[static_cast<size_t>(medium)]->sample(F.toLocal(ws), uc, Vec2{v1, v2},
-                                                                         TransportMode::Importance);
-        if (!s || !s->isTransmission() || !(s->pdf > 0)) return none;
-        const Vec3 dir = normalize(-F.toWorld(s->wi));
+        (void)uc;  // drawn for a lobe choice this strategy does not make (it wants transmitted light only)
+        const RoughDielectricBxDF& proto = *roughProto_[static_cast<size_t>(medium)];
+        const Vec3 wsl = F.toLocal(ws);
+        const auto wi = proto.sampleTransmission(wsl, Vec2{v1, v2});
+        if (!wi) return none;
+        const double pdf = proto.pdfTransmission(wsl, *wi);
+        const Vec3 dir = normalize(-F.toWorld(*wi));
         if (checkFacing && dot(dir, facing) <= 0) return none;
-        return roughSunAlong(p, ng, dir, medium, ws, s->pdf);
+        return roughSunAlong(p, ng, dir, medium, ws, pdf);
     }
     const double nm = scene_.media()[medium].n(group_.begin);
     Vec3 dir = ws;

@@ -173,8 +173,9 @@ protected:
     //    cos(theta_air)/cos(theta_medium);
     //  * in a medium under a rough interface: the direction toward the surface is drawn from the
     //    interface's transmission lobe for light from the sampled disc point (the rough BxDF of a
-    //    horizontal surface sampled in importance mode), traced to the interface, and weighted by the
-    //    BTDF of the facet actually hit: E = E_sun f_t(toward p, toward sun) |cos theta_sun| / pdf.
+    //    horizontal surface, RoughDielectricBxDF::sampleTransmission), traced to the interface, and
+    //    weighted by the BTDF of the facet actually hit: E = E_sun f_t(toward p, toward sun)
+    //    |cos theta_sun| / pdf.
     // Which chains such an estimate covers is recorded by chainAfterVertex(medium) (SunChain).
     SunBeam sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, RandomStream& rng) const;
 

@@ -85,6 +85,17 @@ struct RoughDielectricBxDF {
     std::optional<BSDFSample> sample(const Vec3& wo, double uc, const Vec2& u,
                                      TransportMode mode = TransportMode::Radiance) const;
 
+    // The transmission lobe alone: a microfacet normal h from the Gaussian slope density and the
+    // direction refracted at it, whatever its Fresnel reflectance (nullopt if the normal faces away
+    // from wo, under total internal reflection, or if the refracted direction stays on wo's side).
+    // For estimators that want only transmitted light (the sun seen from under a rough surface:
+    // choosing the lobe by F there would only add the noise of a coin toss). Its density per solid
+    // angle of wi is the transmission pdf above without the lobe choice:
+    //   pdfTransmission = D_gauss(h) h.z eta_i^2 |wi.h| / (eta_o (wo.h) + eta_i (wi.h))^2
+    // (0 for a pair that is not a transmission, or that total internal reflection forbids).
+    std::optional<Vec3> sampleTransmission(const Vec3& wo, const Vec2& u) const;
+    double pdfTransmission(const Vec3& wo, const Vec3& wi) const;
+
     // f and pdf of one pair, with the lobe it belongs to (flags 0 when f = pdf = 0).
     struct Evaluation {
         double f = 0, pdf = 0;
