@@ -51,7 +51,12 @@ TEST(DocsExamples, SceneFormatExamplesAreValid) {
             text = blocks[i];
             ++scenes;
         } else if (blocks[i].rfind("water:", 0) == 0) {
-            text = "scene: {name: doc-example}\nsky: {radiance: 1}\n" + blocks[i];
+            // check-scene assembles the whole scene, so the fragment gets a small domain, a seabed
+            // below its deepest layer (10 m in the docs) and the seabed's material.
+            text = "scene: {name: doc-example, domain: {x: [-5, 5], y: [-5, 5]}}\nsky: {radiance: 1}\n"
+                   "bathymetry: {type: planar_slope, z0_m: -12, spacing_m: 1, material: bottom}\n"
+                   "materials:\n  - {name: bottom, type: lambertian, reflectance: 0.2}\n" +
+                   blocks[i];
             ++waters;
         } else {
             continue;

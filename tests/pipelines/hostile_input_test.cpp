@@ -474,10 +474,12 @@ TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
                                    "would need 14.9 GiB of memory, more than the memory budget of 64 MiB "
                                    "(--max-memory)"))
         << r.output;
-    r = runScene("run", replaced(kScene, "render: {", "render: {photons: {surface: 10000000000}, "));
+    r = runScene("run", replaced(replaced(kScene, "reflectance: 0.2}", "reflectance: 0.2, solver: surface-pm}"), "render: {",
+                                 "render: {photons: {surface: 10000000000}, "));
     EXPECT_EQ(r.status, 1) << r.output;
-    EXPECT_TRUE(contains(r.output, "scene.yaml:11:29: error: render.photons.surface: 10000000000 surface photons (32 B "
-                                   "each) (with the rest of the render) would need 298 GiB"))
+    EXPECT_TRUE(contains(r.output, "scene.yaml:11:29: error: render.photons.surface: 10000000000 surface and 0 volume "
+                                   "photons need 266 GiB (22 and 18 bytes each, plus the search grid), more than the "
+                                   "memory budget of"))
         << r.output;
     expectNothingWritten(out_, "photons");
     // A hand-edited IR asking for a 100000^2 sensor.

@@ -113,7 +113,7 @@ TEST(WavesCli, BadInputExitsOneWithoutOutput) {
 // so the realisation's slope variances scatter by about sqrt(3 pi L_u L_c / (4 A)) = 1.5 % about
 // the target (docs/waves.md): 5 standard deviations, 7.5 %, is the tolerance.
 TEST(WavesCli, CoxMunkModel) {
-    if (!fs::exists(kBinary)) GTEST_SKIP() << "littoral binary not built";
+    ASSERT_TRUE(fs::exists(kBinary)) << "littoral binary not built: " << kBinary;
     const fs::path d = tempDir();
     const fs::path stats = d / "cm.json";
     const CmdResult r = run("waves --model cox-munk --wind 2 --wind-from 45 --size 40 --spacing 0.1 --stats " +
