@@ -318,25 +318,82 @@ Spec Estimator::environment(const Vec3& d, const SunChain& chain) const {
 
 SunChain Estimator::chainAfterVertex(int medium) const { return SunChain::afterVertex(roughSun(medium)); }
 
-bool Estimator::traceToInterface(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h,
-                                 Spec* atten) const {
-    const Medium& md = scene_.media()[medium];
-    Ray toSurface = spawnRay(p, ng, dir);
-    std::vector<std::pair<Ray, double>> legs;
-    for (int w = 0;; ++w) {
-        if (!scene_.geometry().intersect(toSurface, h)) return false;
-        if (!scene_.material(*h).isPeriodicWall()) break;
-        const auto next = scene_.wrapRay(*h, dir);
-        if (!next || w >= Scene::kMaxWraps) return false;
-        legs.emplace_back(toSurface, h->t);
-        toSurface = *next;
+bool Estimator::skyMedium(int m) const {
+    const Medium& md = scene_.media()[static_cast<size_t>(m)];
+    return md.n(group_.begin) == 1.0 && !md.attenuating();
+}
+
+namespace {
+// Fresnel transmittance of a crossing that keeps the direction (the straight-path model of
+// dielectric objects, docs/rendering.md): the path's direction is taken as the one on the side of
+// the lower index, so the crossing never reflects totally; 1 between equal indices.
+double straightCrossing(double cosAngle, double n1, double n2) {
+    if (n1 == n2) return 1.0;
+    return 1.0 - fresnelDielectric(std::abs(cosAngle), std::min(n1, n2), std::max(n1, n2));
+}
+constexpr int kMaxStraightCrossings = 64;
+}  // namespace
+
+bool Estimator::skyTransmittance(const Ray& ray, int medium, Spec* T) const {
+    *T = Spec(group_.count, 1.0);
+    if (!scene_.geometry().occluded(ray)) return true;  // the common case: nothing in the way
+    Ray r = ray;
+    int m = medium;
+    for (int k = 0, wraps = 0; k < kMaxStraightCrossings;) {
+        SurfaceHit h;
+        const Medium& md = scene_.media()[static_cast<size_t>(m)];
+        if (!scene_.geometry().intersect(r, &h)) return !md.attenuating();
+        if (md.attenuating()) *T *= md.transmittance(r, h.t, group_);
+        const MaterialData& mat = scene_.material(h);
+        if (mat.isPeriodicWall()) {
+            const auto next = scene_.wrapRay(h, r.d);
+            if (!next || ++wraps > Scene::kMaxWraps) return false;
+            r = *next;
+            continue;
+        }
+        // Opaque surfaces block the sun; so do rough interfaces (light through them is sampled).
+        if (!mat.isInterface() || mat.isRough()) return false;
+        const int far = scene_.farMedium(h);
+        *T *= straightCrossing(dot(r.d, h.ng), scene_.media()[static_cast<size_t>(scene_.nearMedium(h))].n(group_.begin),
+                               scene_.media()[static_cast<size_t>(far)].n(group_.begin));
+        m = far;
+        r = spawnRay(h.p, h.ng, r.d);
+        ++k;
     }
-    if (!scene_.material(*h).isInterface()) return false;
-    if (scene_.nearMedium(*h) != medium) return false;
-    if (scene_.media()[scene_.farMedium(*h)].attenuating()) return false;
-    *atten = md.transmittance(toSurface, h->t, group_);
-    for (const auto& [leg, t] : legs) *atten *= md.transmittance(leg, t, group_);
-    return true;
+    return false;
+}
+
+bool Estimator::traceToSky(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h,
+                           int* near, Spec* atten) const {
+    *atten = Spec(group_.count, 1.0);
+    Ray r = spawnRay(p, ng, dir);
+    int m = medium;
+    for (int k = 0, wraps = 0; k < kMaxStraightCrossings;) {
+        const Medium& md = scene_.media()[static_cast<size_t>(m)];
+        if (!scene_.geometry().intersect(r, h)) return false;
+        *atten *= md.transmittance(r, h->t, group_);
+        const MaterialData& mat = scene_.material(*h);
+        if (mat.isPeriodicWall()) {
+            const auto next = scene_.wrapRay(*h, dir);
+            if (!next || ++wraps > Scene::kMaxWraps) return false;
+            r = *next;
+            continue;
+        }
+        if (!mat.isInterface()) return false;
+        if (scene_.nearMedium(*h) != m) return false;
+        const int far = scene_.farMedium(*h);
+        if (skyMedium(far)) {
+            *near = m;
+            return true;
+        }
+        // An interface between two dense media (water and a dielectric object): crossed straight.
+        if (mat.isRough()) return false;
+        *atten *= straightCrossing(dot(dir, h->ng), md.n(group_.begin), scene_.media()[static_cast<size_t>(far)].n(group_.begin));
+        m = far;
+        r = spawnRay(h->p, h->ng, dir);
+        ++k;
+    }
+    return false;
 }
 
 Estimator::SunBeam Estimator::roughSunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium,
@@ -345,20 +402,24 @@ Estimator::SunBeam Estimator::roughSunAlong(const Point3& p, const Normal3& ng, 
     beam.E = beam.L = Spec(group_.count);
     SurfaceHit h;
     Spec atten;
-    if (!traceToInterface(p, ng, dir, medium, &h, &atten)) return beam;
-    if (!scene_.material(h).isRough()) return beam;  // a smooth facet refracts the disc into a set of measure zero
+    int near = -1;
+    if (!traceToSky(p, ng, dir, medium, &h, &near, &atten)) return beam;
+    // A smooth facet refracts the disc into a set of measure zero; only the medium's own rough
+    // surface sends this light.
+    if (!scene_.material(h).isRough() || near != medium) return beam;
     const Frame frame = scene_.shadingFrame(h);
     const BxDF bxdf = scene_.bxdf(h, group_);
     const Vec3 wo = frame.toLocal(-dir), wi = frame.toLocal(ws);
     // Radiance mode: the light arrives from ws and leaves toward p (the n^2 law included).
     const double f = bxdf.f(wo, wi, TransportMode::Radiance);
     if (!(f > 0)) return beam;
-    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, ws))) return beam;
+    Spec sky;
+    if (!skyTransmittance(spawnRay(h.p, h.ng, ws), scene_.farMedium(h), &sky)) return beam;
     // One point of the disc sampled with density 1/Omega_sun: radiance f L_sun |cos| / (1/Omega)
-    // = f E_sun |cos theta_i| at the point (and the medium's transmittance on the way).
+    // = f E_sun |cos theta_i| at the point (and the transmittances on the way).
     const SunSource& sun = scene_.sun();
     const double g = f * std::abs(wi.z);
-    for (int i = 0; i < group_.count; ++i) beam.L[i] = sun.irradiance[group_.begin + i] * g * atten[i];
+    for (int i = 0; i < group_.count; ++i) beam.L[i] = sun.irradiance[group_.begin + i] * g * atten[i] * sky[i];
     beam.toSun = dir;
     beam.pdf = pdf;
     if (pdf > 0) beam.E = beam.L * (1.0 / pdf);
@@ -375,9 +436,11 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
     const Medium& md = scene_.media()[medium];
     const double nm = md.n(group_.begin);
     if (nm == 1.0 && !md.attenuating()) {
-        // In air: a straight shadow ray.
-        if (!sun.inDisc(dir) || scene_.geometry().occluded(spawnRay(p, ng, dir))) return beam;
-        beam.E = bandValues(sun.irradiance);
+        // In air: a straight shadow ray (through dielectric objects with their transmittance).
+        if (!sun.inDisc(dir)) return beam;
+        Spec T;
+        if (!skyTransmittance(spawnRay(p, ng, dir), medium, &T)) return beam;
+        beam.E = bandValues(sun.irradiance) * T;
         beam.L = beam.E * (1.0 / sun.solidAngle);
         beam.toSun = dir;
         beam.pdf = 1.0 / sun.solidAngle;
@@ -391,26 +454,44 @@ Estimator::SunBeam Estimator::sunAlong(const Point3& p, const Normal3& ng, const
         const double pdf = roughProto_[static_cast<size_t>(medium)]->pdfTransmission(F.toLocal(ws), F.toLocal(-dir));
         return roughSunAlong(p, ng, dir, medium, ws, pdf);
     }
-    // In a denser medium: follow dir up, through periodic walls, to the interface above.
+    // In a denser medium: follow dir up, through periodic walls and straight through dielectric
+    // objects, to the interface with the air above.
     SurfaceHit h;
     Spec atten;
-    if (!traceToInterface(p, ng, dir, medium, &h, &atten)) return beam;
+    int near = -1;
+    if (!traceToSky(p, ng, dir, medium, &h, &near, &atten)) return beam;
     if (scene_.material(h).isRough()) return beam;  // (only with roughSun(medium), handled above)
-    const double nFar = scene_.media()[scene_.farMedium(h)].n(group_.begin);
+    const int farM = scene_.farMedium(h);
+    const double nFar = scene_.media()[static_cast<size_t>(farM)].n(group_.begin);
     const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
-    const double cosW = std::abs(dot(dir, nf));
     Vec3 out;
-    if (!refract(-dir, nf, nm / nFar, &out)) return beam;  // TIR at this facet
-    out = normalize(out);
-    if (!sun.inDisc(out)) return beam;                      // the facet sends it elsewhere
-    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, out))) return beam;
-    const double cosA = std::abs(dot(out, nf));
-    const double T = 1.0 - fresnelDielectric(cosW, nm, nFar);
+    double T, cosA, cosW;
+    if (near == medium) {
+        // The medium's own surface: refracted through the facet hit (Snell, Eq. 4.1; Fresnel T_f).
+        cosW = std::abs(dot(dir, nf));
+        if (!refract(-dir, nf, nm / nFar, &out)) return beam;  // TIR at this facet
+        out = normalize(out);
+        cosA = std::abs(dot(out, nf));
+        T = 1.0 - fresnelDielectric(cosW, nm, nFar);
+    } else {
+        // Leaving a dielectric object into the air (a floating object): the object bends nothing
+        // (straight-path model), and the water surface it displaced is taken as horizontal here.
+        // The face transmits what light from the air direction `out` would enter it with.
+        if (!(dir.z > 0) || !refract(-dir, Vec3{0, 0, -1}, nm / nFar, &out)) return beam;
+        out = normalize(out);
+        cosW = dir.z;
+        cosA = out.z;
+        T = 1.0 - fresnelDielectric(std::abs(dot(out, nf)), nFar,
+                                    scene_.media()[static_cast<size_t>(near)].n(group_.begin));
+    }
+    if (!sun.inDisc(out)) return beam;  // the facet sends it elsewhere
+    Spec sky;
+    if (!skyTransmittance(spawnRay(h.p, h.ng, out), farM, &sky)) return beam;
     // Radiance in the medium T (nm/nFar)^2 L_sun over a solid angle compressed by
     // (nFar/nm)^2 cos(theta_far)/cos(theta_medium) (etendue n^2 cos dOmega is conserved): beam
     // irradiance E_sun T cosA / cosW.
     const double geom = T * cosA / cosW;
-    for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i];
+    for (int i = 0; i < group_.count; ++i) beam.E[i] = sun.irradiance[group_.begin + i] * geom * atten[i] * sky[i];
     const double solidAngle = sun.solidAngle * sqr(nFar / nm) * cosA / cosW;
     beam.L = beam.E * (1.0 / solidAngle);
     beam.toSun = dir;
@@ -495,10 +576,11 @@ Spec Estimator::glossySun(const SurfaceHit& h, const Frame& frame, const BxDF& b
                                const double pb = bxdf.pdf(wo, wi, TransportMode::Radiance);
                                return pl * pl / (pl * pl + pb * pb);  // power heuristic
                            }();
-    if (scene_.geometry().occluded(spawnRay(h.p, h.ng, ws))) return L;
+    Spec sky;
+    if (!skyTransmittance(spawnRay(h.p, h.ng, ws), side > 0 ? out : in, &sky)) return L;
     // f L_sun |cos| / pdf_light, pdf_light = 1 / Omega: f E_sun |cos theta_i|.
     const double g = w * f * std::abs(wi.z);
-    for (int i = 0; i < group_.count; ++i) L[i] = sun.irradiance[group_.begin + i] * g;
+    for (int i = 0; i < group_.count; ++i) L[i] = sun.irradiance[group_.begin + i] * g * sky[i];
     return L;
 }
 

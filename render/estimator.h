@@ -69,9 +69,10 @@ std::vector<BandGroup> bandGroups(const Scene& scene);
 // reaching the solar disc along one of those does not count it again.
 //
 // A vertex in air (a shadow ray) or in water under smooth interfaces (the refracted sun) covers
-// chains with no reflection, no rough event and at most one smooth transmission; a vertex in water
-// under a rough interface (Estimator::sunBeam's rough strategy) covers chains with no reflection
-// and exactly one rough transmission. A glossy (rough interface) hit estimates the sun itself for
+// chains with no reflection and no rough event, through any number of smooth interfaces (its own
+// medium's surface, refracted, and dielectric objects, crossed by the straight-path model); a vertex
+// in water under a rough interface (Estimator::sunBeam's rough strategy) covers chains with no
+// reflection and exactly one rough transmission. A glossy (rough interface) hit estimates the sun itself for
 // the side of the surface where air is (Estimator::glossySun); the ray it samples toward that
 // side then counts the disc with the MIS weight of BSDF sampling if it reaches it directly, and
 // fully after any further event (afterGlossy).
@@ -84,8 +85,9 @@ struct SunChain {
     double glossyPdf = 0;        // > 0: left a glossy hit whose sun estimate covered the direct disc
     bool countsSun() const {
         if (fromSensor || reflected) return true;
-        const bool covered = roughSun ? roughTransmissions == 1 && transmissions == 0
-                                      : roughTransmissions == 0 && transmissions <= 1;
+        // Smooth transmissions are covered in any number: the sun estimate refracts at the medium's
+        // surface and crosses dielectric objects along the straight-path model.
+        const bool covered = roughSun ? roughTransmissions == 1 : roughTransmissions == 0;
         return !covered;
     }
     static SunChain afterVertex(bool rough = false) {
@@ -165,9 +167,12 @@ protected:
     // point inside a medium). If `facing` is not zero, directions with dot(toSun, facing) <= 0 are
     // rejected before any ray is cast. It draws two numbers from rng whatever the geometry (five in a
     // medium bounded by a rough interface, so the stream layout depends only on the medium):
-    //  * in air: a shadow ray toward a uniformly sampled point of the disc;
+    //  * in air: a shadow ray toward a uniformly sampled point of the disc (through dielectric
+    //    objects along the straight-path model: skyTransmittance);
     //  * in a denser medium: the in-medium direction that a horizontal interface refracts toward
-    //    that point is traced to the interface actually above, refracted through the facet hit
+    //    that point is traced to the interface actually above (straight through submerged
+    //    dielectric objects; a floating object's dry face stands for a horizontal water surface),
+    //    refracted through the facet hit
     //    (Snell, Fresnel T_f), and counted if it leaves inside the disc and reaches the sky
     //    unoccluded, with the medium's transmittance along the leg and the solid-angle compression
     //    cos(theta_air)/cos(theta_medium);
@@ -213,11 +218,19 @@ protected:
     BandGroup group_;
 
 private:
-    // The interface between p's medium and the air above p along dir, traced through periodic
-    // walls: the hit and the medium's transmittance along the way; false if the ray meets anything
-    // else first (an opaque surface, no surface, an interface to a medium that is not p's).
-    bool traceToInterface(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h,
-                          Spec* atten) const;
+    // Is medium m one the sun shines through (index 1, nothing attenuates: the air)?
+    bool skyMedium(int m) const;
+    // Transmittance toward the sun of a straight ray in a sky medium: 1 if nothing is in the way;
+    // through smooth interfaces (dielectric objects, a wave crest) the Fresnel transmittance of a
+    // straight crossing at each and Beer–Lambert inside (the straight-path model); false at an
+    // opaque surface or a rough interface.
+    bool skyTransmittance(const Ray& ray, int medium, Spec* T) const;
+    // From p in a dense medium along dir up to the first interface whose far side is a sky medium,
+    // through periodic walls and straight through dielectric objects on the way (Fresnel
+    // transmittance per crossing, each medium's transmittance): the hit, the medium on its near
+    // side and the product; false if the ray meets an opaque surface or nothing first.
+    bool traceToSky(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h, int* near,
+                    Spec* atten) const;
     // The rough-interface sun of sunAlong/sunBeam: light from the disc direction ws transmitted
     // toward p along -dir by the facet hit; pdf is the density of dir.
     SunBeam roughSunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, const Vec3& ws,

@@ -223,11 +223,30 @@ ProbeSection parseProbe(const YamlNode& n) {
 }
 
 MaterialSection parseMaterial(const YamlNode& n) {
-    n.expectKeys({"name", "type", "reflectance", "solver"});
+    n.expectKeys({"name", "type", "reflectance", "solver", "refractive_index", "absorption_per_m"});
     MaterialSection m;
     m.loc = n.loc();
     m.name = n["name"].asString();
-    m.type = n.getEnum("type", "lambertian", {"lambertian", "black"});
+    m.type = n.getEnum("type", "lambertian", {"lambertian", "black", "dielectric"});
+    if (m.type == "dielectric") {
+        // A transparent solid (glass, epoxy, ice): a smooth Fresnel interface around a medium of
+        // this index and absorption. Objects use it; light refracts through it (docs/scene-format.md).
+        if (n.has("reflectance"))
+            n["reflectance"].fail("a dielectric reflects by Fresnel's law from its refractive_index; remove 'reflectance'");
+        if (n.has("solver"))
+            n["solver"].fail("a dielectric's faces are evaluated by the Fresnel solver (Table 10.4); remove 'solver'");
+        if (m.name == "water")
+            n["name"].fail("'water' is the name of the medium Littoral builds from water.optics; choose another name for "
+                           "this dielectric");
+        if (!n.has("refractive_index"))
+            n.fail("a dielectric needs 'refractive_index' (a number, or a spectrum {wavelengths_um, values} or "
+                   "{file}, in [1, 3]; e.g. 1.5 for glass, 1.55 for epoxy)");
+        m.refractiveIndex = parseSpectrum(n["refractive_index"], 1.0, 3.0, "");
+        if (auto a = n.optional("absorption_per_m")) m.absorption = parseSpectrum(*a, 0, 1000, "m^-1");
+        return m;
+    }
+    for (const char* k : {"refractive_index", "absorption_per_m"})
+        if (n.has(k)) n[k].fail(fmt::format("only a dielectric material has '{}' (this one is {})", k, m.type));
     if (auto sv = n.optional("solver")) {
         if (m.type == "black") sv->fail("a black material has no radiometry solver; remove 'solver'");
         m.solver = sv->asEnum({"classic", "generic", "surface-pm"});
@@ -527,8 +546,12 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
                                        what, sp.minWavelength(), sp.maxWavelength(), b.lo, b.hi));
     };
     if (auto ms = root.optional("materials"))
-        for (size_t i = 0; i < spec.materials.size(); ++i)
-            checkCover(spec.materials[i].reflectance, ms->at(i), "reflectance of '" + spec.materials[i].name + "'");
+        for (size_t i = 0; i < spec.materials.size(); ++i) {
+            const MaterialSection& m = spec.materials[i];
+            checkCover(m.reflectance, ms->at(i), "reflectance of '" + m.name + "'");
+            if (m.refractiveIndex) checkCover(*m.refractiveIndex, ms->at(i), "refractive index of '" + m.name + "'");
+            checkCover(m.absorption, ms->at(i), "absorption of '" + m.name + "'");
+        }
     if (auto w = root.optional("water")) {
         const auto& o = spec.waterOptics;
         std::vector<const LayerOptics*> all = {&o.iops};
@@ -669,6 +692,22 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     for (const auto& m : spec.materials) {
         ir::Material mt;
         mt.name = m.name;
+        if (m.type == "dielectric") {
+            // A smooth interface around a medium of the material's name: the objects that use it get
+            // that medium inside (scenegen/assemble.cpp).
+            mt.type = ir::Material::Type::Dielectric;
+            mt.origin = m.loc;
+            ir->materials.push_back(mt);
+            ir::Layer layer;
+            layer.absorption = m.absorption;
+            ir::Medium md;
+            md.name = m.name;
+            md.refractiveIndex = *m.refractiveIndex;
+            md.layers = {layer};
+            md.origin = m.loc;
+            ir->media.push_back(md);
+            continue;
+        }
         mt.type = m.type == "black" ? ir::Material::Type::Black : ir::Material::Type::Lambertian;
         if (!m.solver.empty()) mt.solver = parseName<ir::Material::Solver>(m.solver);
         mt.reflectance = m.reflectance;

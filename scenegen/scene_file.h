@@ -72,9 +72,13 @@ struct ProbeSection {
 
 struct MaterialSection {
     std::string name;
-    std::string type;    // lambertian | textured | black
+    std::string type;    // lambertian | black | dielectric
     std::string solver;  // classic | generic | surface-pm, or "" when not given
     Spectrum reflectance = Spectrum::constant(0.0);
+    // dielectric: the index of the object's inside (required) and its absorption coefficient, m^-1.
+    // The IR gets a smooth Dielectric material and a medium of the same name.
+    std::optional<Spectrum> refractiveIndex;
+    Spectrum absorption = Spectrum::constant(0.0);
     SourceLoc loc;
 };
 
