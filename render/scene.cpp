@@ -20,6 +20,40 @@ double Texture::lookup(double x, double y) const {
     return texels[static_cast<size_t>(j) * width + i];
 }
 
+uint16_t ClassRaster::at(double x, double y) const {
+    const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
+    const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
+    const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
+    return values[static_cast<size_t>(j) * width + i];
+}
+
+std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels != 1 || (spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.basetype != OIIO::TypeDesc::UINT16))
+        throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
+                                     path.string(), spec.nchannels, spec.format.c_str()));
+    auto r = std::make_shared<ClassRaster>();
+    r->width = spec.width;
+    r->height = spec.height;
+    if (r->width <= 0 || r->height <= 0) throw InputError(fmt::format("{}: class map has no pixels", path.string()));
+    const size_t n = static_cast<size_t>(r->width) * r->height;
+    r->values.resize(n);
+    // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
+    bool ok = false;
+    if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+        std::vector<uint8_t> buf(n);
+        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data());
+        std::copy(buf.begin(), buf.end(), r->values.begin());
+    } else {
+        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r->values.data());
+    }
+    if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in->geterror()));
+    return r;
+}
+
 std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), OIIO::geterror()));
@@ -116,8 +150,50 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Black:
                 d.reflectance.assign(bands_.size(), 0.0);
                 break;
+            case T::Classified: {
+                d.reflectance.assign(bands_.size(), 0.0);
+                if (m.texture.empty()) throw InputError(fmt::format("{}: a classified material needs a class map", who));
+                if (!(m.textureX1 > m.textureX0) || !(m.textureY1 > m.textureY0))
+                    throw InputError(fmt::format("{}: class map extent [{}, {}] x [{}, {}] is empty", who, m.textureX0,
+                                                 m.textureX1, m.textureY0, m.textureY1));
+                auto map = loadClassRaster(irDir / m.texture);
+                map->x0 = m.textureX0;
+                map->x1 = m.textureX1;
+                map->y0 = m.textureY0;
+                map->y1 = m.textureY1;
+                d.classMap = std::move(map);
+                break;
+            }
         }
         materials_.push_back(std::move(d));
+    }
+    // Class maps: each raster value names a diffuse material (resolved now that all are known), and
+    // every value that occurs has one.
+    for (size_t k = 0; k < ir.materials.size(); ++k) {
+        MaterialData& d = materials_[k];
+        if (!d.classMap) continue;
+        const ir::Material& m = ir.materials[k];
+        const std::string who = fmt::format("material '{}'", m.name);
+        d.classMaterial.assign(m.classMaterials.size(), -1);
+        for (size_t v = 0; v < m.classMaterials.size(); ++v) {
+            if (m.classMaterials[v].empty()) continue;
+            for (size_t j = 0; j < ir.materials.size(); ++j)
+                if (ir.materials[j].name == m.classMaterials[v]) d.classMaterial[v] = static_cast<int>(j);
+            if (d.classMaterial[v] < 0)
+                throw InputError(fmt::format("{}: class {} names material '{}', which is not defined", who, v,
+                                             m.classMaterials[v]));
+            const auto t = ir.materials[static_cast<size_t>(d.classMaterial[v])].type;
+            if (t != ir::Material::Type::Lambertian && t != ir::Material::Type::Textured)
+                throw InputError(fmt::format("{}: class {} names material '{}', which is {}; classes must be diffuse "
+                                             "(lambertian or textured)",
+                                             who, v, m.classMaterials[v], nameOf(t)));
+        }
+        std::vector<size_t> count(65536, 0);
+        for (uint16_t v : d.classMap->values) ++count[v];
+        for (size_t v = 0; v < count.size(); ++v)
+            if (count[v] > 0 && (v >= d.classMaterial.size() || d.classMaterial[v] < 0))
+                throw InputError(fmt::format("{}: the class map {} holds value {} ({} pixels), which names no material",
+                                             who, m.texture, v, count[v]));
     }
 
     for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
@@ -151,6 +227,23 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
                                                      "({}) in band {}; a rough interface needs different indices",
                                                      who, materials_[static_cast<size_t>(k)].name,
                                                      media_[static_cast<size_t>(in)].n(static_cast<int>(b)), b));
+        // A class map must cover, in plan view, every mesh that uses it (the lookup would otherwise
+        // clamp to its edge pixels and invent classes there).
+        for (size_t s = 0; s < slots.size(); ++s) {
+            const MaterialData& d = materials_[static_cast<size_t>(slots[s])];
+            if (!d.classMap) continue;
+            BBox3 b;
+            for (size_t f = 0; f < mesh.data.triangles.size(); ++f)
+                if (mesh.data.materialOf(f) == s)
+                    for (uint32_t v : mesh.data.triangles[f]) b.expand(mesh.data.positions[v]);
+            if (b.empty()) continue;
+            const ClassRaster& r = *d.classMap;
+            const double tol = 1e-6 * std::max({1.0, r.x1 - r.x0, r.y1 - r.y0});
+            if (b.lo.x < r.x0 - tol || b.hi.x > r.x1 + tol || b.lo.y < r.y0 - tol || b.hi.y > r.y1 + tol)
+                throw InputError(fmt::format("{}: the class map of material '{}' covers [{}, {}] x [{}, {}] m, but the "
+                                             "faces that use it span [{}, {}] x [{}, {}] m; the map must cover them",
+                                             who, d.name, r.x0, r.x1, r.y0, r.y1, b.lo.x, b.hi.x, b.lo.y, b.hi.y));
+        }
         meshMaterials_.push_back(std::move(slots));
         meshInside_.push_back(in);
         meshOutside_.push_back(out);

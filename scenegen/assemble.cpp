@@ -173,10 +173,17 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
                                                                m.name));
             ir.materials.push_back(m);
             known.insert(m.name);
-            terrainMaterials.push_back(m.name);
         }
-        const TextureClasses* tc = &*out.textures;
-        materialAt = [tc](double x, double y) { return tc->slotAt(x, y); };
+        // The ground's faces carry one classified material: the renderer looks the class up where
+        // each ray lands, so class boundaries are as sharp as the map whatever the terrain grid.
+        const ir::Material classified = out.textures->classifiedMaterial("texture-classes");
+        if (known.count(classified.name))
+            throw InputError(classesSpec->loc, fmt::format("'{}' is the name of the material Littoral makes for the "
+                                                           "class map; rename the material or class that uses it",
+                                                           classified.name));
+        ir.materials.push_back(classified);
+        known.insert(classified.name);
+        terrainMaterials = {classified.name};
         if (!bathy.material.empty())
             throw InputError(bathy.loc, "bathymetry.material is not used when texture_classes assigns the ground "
                                         "materials; remove it");
