@@ -142,16 +142,17 @@ void parseSun(const YamlNode& n, SunSection* s) {
 }
 
 void parseSky(const YamlNode& n, SkySection* s) {
-    n.expectKeys({"model", "radiance", "hemisphere_irradiance", "sky_fraction"});
+    n.expectKeys({"model", "radiance", "hemisphere_irradiance", "sky_fraction", "sun_plane"});
     s->model = n.getEnum("model", "uniform", {"uniform", "simple"});
     if (s->model == "uniform") {
-        for (const char* k : {"hemisphere_irradiance", "sky_fraction"})
+        for (const char* k : {"hemisphere_irradiance", "sky_fraction", "sun_plane"})
             if (n.has(k)) n[k].fail("only used with model: simple");
         s->radiance = parseSpectrum(n["radiance"], 0, 1e5, "W m^-2 sr^-1 um^-1");
     } else {
         if (n.has("radiance")) n["radiance"].fail("model: simple derives the sky radiance; use hemisphere_irradiance and sky_fraction");
         s->hemisphereIrradiance = n["hemisphere_irradiance"].asDouble(0, 1e5, "W m^-2 um^-1");
         s->skyFraction = n["sky_fraction"].asDouble(0, 1);
+        s->sunPlane = n.getEnum("sun_plane", "horizontal", {"horizontal", "normal"});
     }
 }
 
@@ -645,13 +646,19 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     }
     ir->sun.halfAngle = spec.sun.halfAngle;
     if (spec.sky.model == "simple") {
-        // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi and the sun
-        // carries the rest of the horizontal irradiance, (1 - F) E_h, i.e. (1 - F) E_h / cos(zenith)
-        // on a plane normal to the beam.
+        // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi, and the sun's
+        // share (1 - F) E_h is measured on the plane `sun_plane` names:
+        //   horizontal  (1 - F) E_h on a horizontal plane: (1 - F) E_h / cos(zenith) normal to the
+        //               beam (the sky and the sun then add up to E_h on the ground);
+        //   normal      (1 - F) E_h normal to the beam: DIRSIG's Eq. 4.5 (solarIrradiance =
+        //               (1 - skyfraction) hemisphereIrradiance), (1 - F) E_h cos(zenith) on the ground.
+        // The two differ by 1 / cos(zenith): a factor of two at 60 degrees.
         ir->sky.radiance = Spectrum::constant(spec.sky.skyFraction * spec.sky.hemisphereIrradiance * kInvPi);
         const double cz = std::cos(sunZenith);
-        ir->sun.irradiance = Spectrum::constant(
-            spec.sun.enabled && cz > 1e-6 ? (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance / cz : 0.0);
+        const double share = (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance;
+        const double beam = spec.sky.sunPlane == "normal" ? share : (cz > 1e-6 ? share / cz : 0.0);
+        ir->sun.irradiance = Spectrum::constant(spec.sun.enabled ? beam : 0.0);
+        ir->metadata["sky.sun_plane"] = spec.sky.sunPlane;
         if (spec.sky.skyFraction >= 1.0) ir->sun.enabled = false;
     } else {
         ir->sky.radiance = spec.sky.radiance.value_or(Spectrum::constant(0.0));
