@@ -549,13 +549,9 @@ Spec Estimator::glossySun(const SurfaceHit& h, const Frame& frame, const BxDF& b
     const SunSource& sun = scene_.sun();
     if (!sun.enabled || config_.glossySun == RenderConfig::GlossySun::BsdfOnly) return L;
     // The side of the surface where the sun is reached by a straight shadow ray: the one whose
-    // medium is air-like (index 1, nothing attenuates).
-    auto airLike = [&](int m) {
-        const Medium& md = scene_.media()[static_cast<size_t>(m)];
-        return md.n(group_.begin) == 1.0 && !md.attenuating();
-    };
+    // medium is a sky medium (index 1, nothing attenuates).
     const int out = scene_.outsideMedium(h.mesh), in = scene_.insideMedium(h.mesh);
-    const int side = airLike(out) ? +1 : airLike(in) ? -1 : 0;
+    const int side = skyMedium(out) ? +1 : skyMedium(in) ? -1 : 0;
     if (side == 0) return L;
     // Would the event that connects wo to that side (reflection if wo is on it, else a rough
     // transmission) leave a chain whose disc counts? If not, an earlier vertex's estimate covers it.
