@@ -511,6 +511,12 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
             mt.textureX1 = e[2];
             mt.textureY1 = e[3];
         }
+        // Keys that belong to one material type are refused on the others (they would do nothing).
+        if (mt.type != Material::Type::RoughDielectric)
+            for (const char* k : {"wind_speed_mps", "wind_azimuth_rad", "sea", "gram_charlier", "shadowing"})
+                if (m.has(k)) m[k].fail("only a rough-dielectric material has this key");
+        if (mt.type != Material::Type::Classified && m.has("class_map"))
+            m["class_map"].fail("only a classified material has a class map");
         if (m.has("class_map")) {
             auto c = m["class_map"];
             c.expectKeys({"file", "extent_m", "classes"});
