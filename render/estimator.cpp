@@ -509,8 +509,8 @@ Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const 
     // (keeps neighbouring pixels' streams aligned).
     const double u1 = rng.uniform(), u2 = rng.uniform();
     const bool rough = roughSun(medium);
-    double uc = 0, v1 = 0, v2 = 0;
-    if (rough) uc = rng.uniform(), v1 = rng.uniform(), v2 = rng.uniform();
+    double v1 = 0, v2 = 0;
+    if (rough) v1 = rng.uniform(), v2 = rng.uniform();
     if (!sun.enabled) return none;
     const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
     const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
@@ -518,7 +518,6 @@ Estimator::SunBeam Estimator::sunBeam(const Point3& p, const Normal3& ng, const 
         // The transmission lobe of a horizontal rough surface lit from ws (light travels from ws
         // into the medium; RoughDielectricBxDF::sampleTransmission): dir points back up along it.
         const Frame& F = roughFrame_[static_cast<size_t>(medium)];
-        (void)uc;  // drawn for a lobe choice this strategy does not make (it wants transmitted light only)
         const RoughDielectricBxDF& proto = *roughProto_[static_cast<size_t>(medium)];
         const Vec3 wsl = F.toLocal(ws);
         const auto wi = proto.sampleTransmission(wsl, Vec2{v1, v2});

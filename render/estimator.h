@@ -165,7 +165,7 @@ protected:
     SunBeam sunAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, const Vec2& uDisc) const;
     // Next-event estimate of the sun at p (offset off the surface with normal ng, or ng = 0 for a
     // point inside a medium). If `facing` is not zero, directions with dot(toSun, facing) <= 0 are
-    // rejected before any ray is cast. It draws two numbers from rng whatever the geometry (five in a
+    // rejected before any ray is cast. It draws two numbers from rng whatever the geometry (four in a
     // medium bounded by a rough interface, so the stream layout depends only on the medium):
     //  * in air: a shadow ray toward a uniformly sampled point of the disc (through dielectric
     //    objects along the straight-path model: skyTransmittance);

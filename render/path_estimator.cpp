@@ -162,10 +162,10 @@ Spec PathEstimator::sunScattered(const Point3& x, int layer, const Vec3& dir, in
     if (us < 0.5) {
         sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
     } else {
-        // The disc strategy's numbers (two, and three more under a rough interface): the disc point
+        // The disc strategy's numbers (two, and two more under a rough interface): the disc point
         // is shared by both strategies, which differ in how the direction toward it is chosen.
         const double d1 = rng.uniform(), d2 = rng.uniform();
-        if (roughSun(medium)) rng.uniform(), rng.uniform(), rng.uniform();
+        if (roughSun(medium)) rng.uniform(), rng.uniform();
         // A direction toward the light w with density p(angle(w, dir)): light arriving along -w
         // scatters into -dir at that same angle.
         const Vec3 w = md.sampleAround(layer, group_, dir, u0, u1, u2, u3);

@@ -103,22 +103,27 @@ Transect renderTransect(ir::SceneIR& s, const ir::Sensor& cam, int renders, uint
 // Every pixel within 5 standard errors plus the reference's own accuracy: sunDiscAverage's
 // small-angle quadrature is good to ~radius^2 = 2e-5 relative for the 0.53 deg sun, and the film
 // stores floats (6e-8): 1e-4 relative covers both. With ~40 pixels per transect and 16 transects
-// per estimator, 5 standard errors (two-sided p = 6e-7 per pixel, standard errors from 96 renders)
-// make a false alarm unlikely (< 1e-3 per run); a real error in f, the pdf or the MIS weights
-// shows up as tens of standard errors (the glint peak's standard error is ~0.1 %).
+// per estimator, 5 standard errors (two-sided p = 6e-7 per pixel, standard errors from 256 renders)
+// make a false alarm unlikely (< 1e-3 per run). 256 rather than fewer renders: in the lobes' tails
+// the disc samples' values are skewed (f changes by a factor of ~4 across the 0.53 deg disc there),
+// and with 96 renders the spread underestimated the error now and then (|z| up to 4.5 in one of 656
+// pixels); with 256, over four seed sets, the largest |z| of the 656 pixels was 2.9 to 3.5, as
+// expected of normal errors. A real error in f, the pdf or the MIS weights shows up as tens of
+// standard errors (the glint peak's standard error is ~0.1 %).
 void expectTransect(const Transect& t, const std::string& what, double* worstZ) {
     double peak = 0;
     for (double p : t.pred) peak = std::max(peak, p);
-    double z2 = 0, zmax = 0;
+    double z2 = 0, zmax = 0, relAtMax = 0;
     for (size_t p = 0; p < t.mean.size(); ++p) {
         const double tol = 5.0 * t.se[p] + 1e-4 * t.pred[p] + 1e-9 * peak;
         EXPECT_NEAR(t.mean[p], t.pred[p], tol) << what << " pixel " << p << " se " << t.se[p];
         const double z = t.se[p] > 0 ? (t.mean[p] - t.pred[p]) / t.se[p] : 0.0;
         z2 += z * z;
-        zmax = std::max(zmax, std::abs(z));
+        if (std::abs(z) > zmax) zmax = std::abs(z), relAtMax = t.pred[p] > 0 ? t.mean[p] / t.pred[p] - 1 : 0;
     }
     *worstZ = std::max(*worstZ, zmax);
-    std::printf("[ %s ] peak %.6g, max |z| %.2f, mean z^2 %.2f\n", what.c_str(), peak, zmax, z2 / t.mean.size());
+    std::printf("[ %s ] peak %.6g, max |z| %.2f (relative difference there %+.1e), mean z^2 %.2f\n", what.c_str(), peak,
+                zmax, relAtMax, z2 / t.mean.size());
 }
 
 // Glint seen from above and the transmitted sun seen from below, upwind and crosswind, for
@@ -134,7 +139,7 @@ class GlintTransects : public ::testing::TestWithParam<ir::Estimator> {};
 
 TEST_P(GlintTransects, MatchClosedForms) {
     const double H = 10.0, d = 5.0;
-    const int N = 41, renders = 96;
+    const int N = 41, renders = 256;
     const double radius = 0.5 * deg2rad(kSunDeg);
     double worstZ = 0;
     for (double W : {2.0, 3.0, 5.0, 8.0}) {
