@@ -65,7 +65,7 @@ EdgeMeasures analyseEdge(const std::vector<float>& plane, const PixelGrid& grid,
 struct ImageQualityOptions {
     std::string out;                                  // output folder
     std::vector<double> depths{1.0, 2.5};             // target depths, m
-    std::vector<double> radii{0.25, 0.5, 1.0, 2.0};   // search radii (surface = volume), m
+    std::vector<double> radii{0.25, 0.5, 1.0};        // search radii (surface = volume), m
     std::vector<double> densities{1000, 3000};        // volume photons per m^3
     double surfacePerVolume = 5.5;                    // surface photons per m^2 for each volume photon per m^3
     std::string water = "coastal";                    // coastal, bay or turbid (Table 9.6 coefficients)

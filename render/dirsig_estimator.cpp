@@ -53,7 +53,17 @@ struct PathState {
     int wraps = 0;         // periodic-wall crossings
     SunChain chain;
     bool skyOnly = false;  // Classic sky rays: opaque surfaces contribute 0
+    Normal3 startNormal{0, 0, 0};  // the surface the ray leaves (zero if it starts in a medium or at a wall)
 };
+
+// Fraction of a disc of radius r whose points lie within distance h (>= 0) of its centre on one
+// side of a line through the disc at distance h from the centre, plus the whole other side:
+// 1 - (acos x - x sqrt(1 - x^2)) / pi, x = min(h / r, 1). 1/2 when the line passes through the
+// centre, 1 when it misses the disc.
+double discFractionInside(double h, double r) {
+    const double x = std::min(1.0, std::max(0.0, h / r));
+    return 1.0 - (std::acos(x) - x * std::sqrt(1.0 - x * x)) / kPi;
+}
 
 constexpr int kCoverageProbes = 16;
 
@@ -79,11 +89,18 @@ public:
 
 private:
     bool mediumPM(int medium) const { return medium > 0 && config_.mediumPM[static_cast<size_t>(medium - 1)] && maps_; }
+    bool effectiveExtinction(int medium) const override { return config_.effectiveScattering && mediumPM(medium); }
     Spec transmittance(const Ray& ray, double t, int medium) const {
-        return scene_.media()[medium].transmittance(ray, t, group_, config_.effectiveScattering && mediumPM(medium));
+        return scene_.media()[medium].transmittance(ray, t, group_, effectiveExtinction(medium));
     }
     // MediumPM: in-scattered radiance along ray.o + t ray.d, t in [0, tMax), from the volume map.
-    Spec volumeInScatter(const Ray& ray, double tMax, int medium) const;
+    // In-scattered radiance along ray over [0, tMax) in `medium` from the volume map (beam
+    // estimate). endNormal / startNormal: the surfaces that end and start the segment (zero when
+    // there is none, e.g. a periodic wall or a point inside the medium); photons exist only on
+    // the medium's side of them, so near them the search disc is cut and each photon's weight is
+    // divided by the fraction of its disc inside (boundary compensation for a locally flat surface).
+    Spec volumeInScatter(const Ray& ray, double tMax, int medium, const Normal3& endNormal = {0, 0, 0},
+                         const Normal3& startNormal = {0, 0, 0}) const;
     // SurfacePM: irradiance at a diffuse hit from the surface map (n: the normal on the side seen).
     Spec surfaceIrradiance(const SurfaceHit& h, const Normal3& n) const;
     Spec trace(const Ray& ray, const PathState& st, RandomStream& rng) const;
@@ -132,7 +149,8 @@ Point3 DirsigEstimator::wrapIntoDomain(Point3 p) const {
     return p;
 }
 
-Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) const {
+Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, const Normal3& endNormal,
+                                      const Normal3& startNormal) const {
     Spec L(group_.count);
     const PhotonMap& vm = maps_->volume;
     if (vm.size() == 0) return L;
@@ -144,8 +162,18 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) c
     // (Cut where every band's transmittance is below e^-20 = 2e-9.)
     const double tEnd = std::min(tMax, cMin > 0 ? 20.0 / cMin : 1e4);
     const double inv = 1.0 / (kPi * rV_ * rV_);
-    const bool eff = config_.effectiveScattering;
+    const bool eff = effectiveExtinction(medium);
+    const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
     const Vec3 toEye = -ray.d;
+    // The distance from the disc's centre at t to a boundary plane, within the disc, grows as
+    // k t (start) or k (tMax - t) (end), k = |cos| / sin of the ray's angle to the plane's normal;
+    // a ray along the normal never has its disc cut (k = inf).
+    auto slope = [&](const Normal3& n) {
+        const double c = std::abs(dot(ray.d, n)), s2 = 1.0 - c * c;
+        return s2 > 1e-12 ? c / std::sqrt(s2) : ir::kInfinity;
+    };
+    const bool cutEnd = lengthSquared(endNormal) > 0 && std::isfinite(tMax), cutStart = lengthSquared(startNormal) > 0;
+    const double kEnd = cutEnd ? slope(endNormal) : ir::kInfinity, kStart = cutStart ? slope(startNormal) : ir::kInfinity;
     for (double t0 = 0; t0 < tEnd; t0 += config_.marchStep) {
         const double t1 = std::min(tEnd, t0 + config_.marchStep);
         // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
@@ -160,7 +188,20 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) c
         vm.forEachNearSegment(ray.o + shift, ray.d, t0, t1, rV_, [&](size_t i, double t) {
             const Point3 x = vm.position(i);
             const int li = l0 == l1 ? l0 : md.layerAt(x.z);
-            const Spec p = md.phase(li, group_, vm.direction(i), toEye);
+            Spec p = md.phase(li, group_, vm.direction(i), toEye);
+            if (eff) {
+                // Effective scattering: the map holds only events outside the 0.01 sr forward cone
+                // (at the rate b (1 - f)); the phase function is the part outside the cone, over
+                // 1 - f. An eye direction inside the photon's cone is unscattered light, carried
+                // by the transmittance with a + b (1 - f).
+                if (dot(vm.direction(i), toEye) > cosCone) return;
+                const MediumLayer& lay = md.layers()[li];
+                for (int b = 0; b < group_.count; ++b) {
+                    const int k = group_.begin + b;
+                    const double keep = lay.b[k] > 0 ? (lay.cEff[k] - lay.a[k]) / lay.b[k] : 1.0;  // 1 - f
+                    p[b] = keep > 0 ? p[b] / keep : 0.0;
+                }
+            }
             Spec T(group_.count);
             if (l0 == l1) {
                 for (int b = 0; b < group_.count; ++b)
@@ -168,7 +209,11 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium) c
             } else {
                 T = md.transmittance(ray, t, group_, eff);
             }
-            for (int b = 0; b < group_.count; ++b) L[b] += T[b] * p[b] * vm.power(i, b) * vm.fluxScale[b] * inv;
+            double cut = 1.0;
+            if (cutEnd && std::isfinite(kEnd)) cut *= discFractionInside(kEnd * (tMax - t), rV_);
+            if (cutStart && std::isfinite(kStart)) cut *= discFractionInside(kStart * t, rV_);
+            const double wgt = inv / cut;
+            for (int b = 0; b < group_.count; ++b) L[b] += T[b] * p[b] * vm.power(i, b) * vm.fluxScale[b] * wgt;
         });
         });
     }
@@ -218,7 +263,8 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     SurfaceHit h;
     const Medium& medium = scene_.media()[st.medium];
     if (!scene_.geometry().intersect(ray, &h)) {
-        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, ir::kInfinity, st.medium) : Spec(group_.count);
+        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, ir::kInfinity, st.medium, {0, 0, 0}, st.startNormal)
+                                     : Spec(group_.count);
         // An infinitely long path through an attenuating medium carries nothing more.
         if (medium.attenuating()) return L;
         return L + environment(ray.d, st.chain);
@@ -226,11 +272,13 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     const MaterialData& m = scene_.material(h);
     if (m.isPeriodicWall()) {
         const auto next = scene_.wrapRay(h, ray.d);
-        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, h.t, st.medium) : Spec(group_.count);
+        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, h.t, st.medium, {0, 0, 0}, st.startNormal)
+                                     : Spec(group_.count);
         if (!next || st.wraps >= Scene::kMaxWraps) return L;
         PathState s2 = st;
         s2.chain.hitSurface();
         ++s2.wraps;
+        s2.startNormal = Normal3{0, 0, 0};
         return L + trace(*next, s2, rng) * transmittance(ray, h.t, st.medium);
     }
     // The segment's medium: an interface knows its own sides (trusted over the carried medium);
@@ -244,7 +292,8 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     if (bxdf.isDelta()) Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
     else if (bxdf.isGlossy()) Lsurf = shadeRoughInterface(ray, h, bxdf, s2, rng);
     else if (!st.skyOnly) Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
-    const Spec inScatter = mediumPM(segMedium) ? volumeInScatter(ray, h.t, segMedium) : Spec(group_.count);
+    const Spec inScatter =
+        mediumPM(segMedium) ? volumeInScatter(ray, h.t, segMedium, h.ng, st.startNormal) : Spec(group_.count);
     if (Lsurf.isBlack()) return inScatter;
     return Lsurf * transmittance(ray, h.t, segMedium) + inScatter;
 }
@@ -263,10 +312,12 @@ Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const 
         // Exactly tangent to the face: r_f = 1 at grazing incidence and the mirror direction is
         // the ray's own, so it continues unchanged (the Fresnel weights would be 0 * inf).
         next.chain.reflected = true;
+        next.startNormal = h.ng;
         return trace(spawnRay(h.p, h.ng, ray.d), next, rng);
     }
     auto follow = [&](const BSDFSample& s, double weight, PathState ps) {
         ps.medium = s.isTransmission() ? mOther : st.medium;
+        ps.startNormal = h.ng;
         if (s.isTransmission()) ++ps.chain.transmissions;
         else ps.chain.reflected = true;
         const Vec3 wi = frame.toWorld(s.wi);  // orthonormal frame: unit to rounding
@@ -308,6 +359,7 @@ Spec DirsigEstimator::shadeRoughInterface(const Ray& ray, const SurfaceHit& h, c
     next.specularDepth = st.specularDepth + 1;
     next.medium = s->isTransmission() ? scene_.farMedium(h) : st.medium;
     next.chain = chainAfterGlossy(st.chain, *s, neeSide);
+    next.startNormal = h.ng;
     const Vec3 wi = normalize(frame.toWorld(s->wi));
     return L + trace(spawnRay(h.p, h.ng, wi), next, rng) * (s->f * std::abs(s->wi.z) / s->pdf);
 }
@@ -341,6 +393,7 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     next.wraps = st.wraps;
     next.chain = chainAfterVertex(st.medium);
     next.skyOnly = classic;
+    next.startNormal = n;
     // The first diffuse vertex of a path integrates its hemisphere with N stratified rays; deeper
     // vertices use one ray, so a path tree grows linearly, not as N^depth.
     const int count = st.diffuseDepth == 0 ? config_.hemisphereSamples : 1;

@@ -343,7 +343,7 @@ bool Estimator::skyTransmittance(const Ray& ray, int medium, Spec* T) const {
         SurfaceHit h;
         const Medium& md = scene_.media()[static_cast<size_t>(m)];
         if (!scene_.geometry().intersect(r, &h)) return !md.attenuating();
-        if (md.attenuating()) *T *= md.transmittance(r, h.t, group_);
+        if (md.attenuating()) *T *= md.transmittance(r, h.t, group_, effectiveExtinction(m));
         const MaterialData& mat = scene_.material(h);
         if (mat.isPeriodicWall()) {
             const auto next = scene_.wrapRay(h, r.d);
@@ -371,7 +371,7 @@ bool Estimator::traceToSky(const Point3& p, const Normal3& ng, const Vec3& dir, 
     for (int k = 0, wraps = 0; k < kMaxStraightCrossings;) {
         const Medium& md = scene_.media()[static_cast<size_t>(m)];
         if (!scene_.geometry().intersect(r, h)) return false;
-        *atten *= md.transmittance(r, h->t, group_);
+        *atten *= md.transmittance(r, h->t, group_, effectiveExtinction(m));
         const MaterialData& mat = scene_.material(*h);
         if (mat.isPeriodicWall()) {
             const auto next = scene_.wrapRay(*h, dir);

@@ -184,9 +184,16 @@ protected:
     // Which chains such an estimate covers is recorded by chainAfterVertex(medium) (SunChain).
     SunBeam sunBeam(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, RandomStream& rng) const;
 
-    // The chain state of a ray leaving a scattering vertex (diffuse hit, medium collision, probe)
-    // in `medium`: which chains that vertex's sun estimate covers.
-        bool roughSun(int medium) const { return roughSunMaterial_[static_cast<size_t>(medium)] >= 0; }
+    // Whether transmittance in `medium` uses the effective extinction a + b (1 - f) (the
+    // dissertation's effective scattering coefficient: scattering into the 0.01 sr forward cone
+    // counts as unscattered). The dirsig estimator says yes for MediumPM media when
+    // render.photons.effective_scattering is set, so that the direct sun, the camera rays and the
+    // volume map (which then stores no forward-cone events) agree.
+    virtual bool effectiveExtinction(int /*medium*/) const { return false; }
+
+    // Is `medium` bounded from above by a rough interface (its sun estimates then sample that
+    // interface's transmission lobe)?
+    bool roughSun(int medium) const { return roughSunMaterial_[static_cast<size_t>(medium)] >= 0; }
 
     // Next-event estimation of the sun at a glossy (rough interface) hit h, seen along wo (local
     // frame of bxdf, `frame`): the radiance toward wo of sunlight reaching h along a straight shadow

@@ -1,6 +1,11 @@
 #include "render/photon_map.h"
 
 #include <bit>
+#include <algorithm>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <cstring>
 
 #include "core/error.h"
@@ -106,31 +111,98 @@ void PhotonMap::append(const PhotonMap& o) {
     pow_.insert(pow_.end(), o.pow_.begin(), o.pow_.end());
 }
 
+void PhotonMap::reserve(size_t n) {
+    x_.reserve(n), y_.reserve(n), z_.reserve(n), dir_.reserve(n);
+    if (normals_) nrm_.reserve(n);
+    pow_.reserve(n * static_cast<size_t>(bands_));
+}
+
+void PhotonMap::clear() {
+    x_.clear(), y_.clear(), z_.clear(), dir_.clear(), nrm_.clear(), pow_.clear();
+    bucketStart_.clear();
+    cell_ = 0;
+    mask_ = 0;
+}
+
 void PhotonMap::build(double cellSize) {
     LITTORAL_CHECK(cellSize > 0);
     cell_ = cellSize;
     const size_t n = x_.size();
+    LITTORAL_CHECK(n < (size_t{1} << 32));
     // About one bucket per photon (a power of two, at least 1024).
     uint64_t buckets = 1024;
     while (buckets < n) buckets <<= 1;
     mask_ = buckets - 1;
     const double inv = 1.0 / cell_;
+    // A stable two-level counting sort by bucket, in parallel and deterministic (the result does
+    // not depend on the threads): (1) each block of photons counts its photons per partition (the
+    // top 10 bits of the bucket) and scatters their indices, in order, to offsets from a scan in
+    // (partition, block) order; (2) each partition, a range small enough for the cache, is
+    // counting-sorted by its buckets; (3) the records are gathered in the new order.
+    constexpr int kPartBits = 10;
+    constexpr size_t kParts = size_t{1} << kPartBits;
+    const int shift = std::countr_zero(buckets) - kPartBits;  // buckets >= 1024
     std::vector<uint32_t> bucket(n);
-    for (size_t i = 0; i < n; ++i)
-        bucket[i] = static_cast<uint32_t>(bucketOf(static_cast<int64_t>(std::floor(x_[i] * inv)),
-                                                   static_cast<int64_t>(std::floor(y_[i] * inv)),
-                                                   static_cast<int64_t>(std::floor(z_[i] * inv))));
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i)
+            bucket[i] = static_cast<uint32_t>(bucketOf(static_cast<int64_t>(std::floor(x_[i] * inv)),
+                                                       static_cast<int64_t>(std::floor(y_[i] * inv)),
+                                                       static_cast<int64_t>(std::floor(z_[i] * inv))));
+    });
+    const size_t blockSize = std::max<size_t>(size_t{1} << 16, (n + 255) / 256);
+    const size_t blocks = (n + blockSize - 1) / blockSize;
+    std::vector<size_t> counts(blocks * kParts, 0);  // [block][partition]
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
+        size_t* cnt = &counts[k * kParts];
+        for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i) ++cnt[bucket[i] >> shift];
+    });
+    std::vector<size_t> partStart(kParts + 1, 0);
+    {
+        size_t sum = 0;
+        for (size_t p = 0; p < kParts; ++p) {
+            partStart[p] = sum;
+            for (size_t k = 0; k < blocks; ++k) {
+                const size_t c = counts[k * kParts + p];
+                counts[k * kParts + p] = sum;  // becomes the block's write offset
+                sum += c;
+            }
+        }
+        partStart[kParts] = sum;
+    }
+    std::vector<uint32_t> byPart(n);
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
+        size_t* off = &counts[k * kParts];
+        for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i)
+            byPart[off[bucket[i] >> shift]++] = static_cast<uint32_t>(i);
+    });
     bucketStart_.assign(buckets + 2, 0);
-    for (size_t i = 0; i < n; ++i) ++bucketStart_[bucket[i] + 2];
-    for (size_t b = 2; b < bucketStart_.size(); ++b) bucketStart_[b] += bucketStart_[b - 1];
-    // Stable counting sort: photon order within a bucket is their order of addition.
     std::vector<uint32_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[bucketStart_[bucket[i] + 1]++] = static_cast<uint32_t>(i);
+    const size_t perPart = size_t{1} << shift;
+    tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
+        const size_t b0 = p * perPart, s0 = partStart[p], s1 = partStart[p + 1];
+        // bucketStart_[b] = first photon of bucket b, for this partition's buckets only.
+        std::vector<uint32_t> next(perPart, 0);
+        for (size_t k = s0; k < s1; ++k) ++next[bucket[byPart[k]] - b0];
+        uint32_t sum = static_cast<uint32_t>(s0);
+        for (size_t j = 0; j < perPart; ++j) {
+            const uint32_t c = next[j];
+            bucketStart_[b0 + j] = next[j] = sum;
+            sum += c;
+        }
+        for (size_t k = s0; k < s1; ++k) {  // stable within the partition
+            const uint32_t i = byPart[k];
+            order[next[bucket[i] - b0]++] = i;
+        }
+    });
+    // Bucket b holds [bucketStart_[b], bucketStart_[b + 1]); the last bucket ends at n.
+    bucketStart_[buckets] = bucketStart_[buckets + 1] = static_cast<uint32_t>(n);
     auto permute = [&](auto& v, size_t stride) {
         if (v.empty()) return;
         std::remove_reference_t<decltype(v)> out(v.size());
-        for (size_t k = 0; k < n; ++k)
-            std::copy_n(v.begin() + order[k] * stride, stride, out.begin() + k * stride);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t k = r.begin(); k != r.end(); ++k)
+                std::copy_n(v.begin() + order[k] * stride, stride, out.begin() + k * stride);
+        });
         v.swap(out);
     };
     permute(x_, 1);

@@ -42,6 +42,9 @@ public:
     void add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power);
     // Appends all photons of another map (same bands and layout), in order.
     void append(const PhotonMap& other);
+    // Capacity for n photons (no reallocation while adding up to n); clear() keeps the capacity.
+    void reserve(size_t n);
+    void clear();
     // Sorts the photons into a hash grid of cells of side `cellSize` (> 0); queries with a radius
     // up to cellSize visit at most 27 cells.
     void build(double cellSize);

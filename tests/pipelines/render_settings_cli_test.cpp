@@ -126,3 +126,28 @@ TEST(RenderSettingsCli, SettingTheEstimatorDoesNotRead) {
     expectRefused({"solver-under-path", replaceLine(kBase, "{name: floor, reflectance: 0.2}", "{name: floor, reflectance: 0.2, solver: generic}"),
                    ":15:5", "the path estimator does not use per-material solvers"});
 }
+
+// Photon-map settings (issue 9): a radius of zero or below, a photon-map solver with no photons
+// asked for, and more photons than the memory budget allows.
+TEST(RenderSettingsCli, PhotonMapSettings) {
+    // The base with the volume map: dirsig, water solver medium-pm, photons and radius given.
+    const std::string pm = replaceLine(
+        replaceLine(kBase, "    phase: {type: henyey-greenstein, g: 0.9}\n",
+                    "    phase: {type: henyey-greenstein, g: 0.9}\n    solver: medium-pm\n"),
+        "  estimator: path\n  probe_samples: 64\n  probe_batches: 4\n",
+        "  estimator: dirsig\n  probe_samples: 64\n  probe_batches: 4\n  photons: {volume: 20000}\n"
+        "  search_radius_m: {volume: 0.3}\n");
+    {
+        const fs::path dir = scratchDir("render_settings_cli", "photon-maps-ok");
+        const CommandResult r = runLittoral("--quiet check-scene " + writeTextFile(dir, "pm.yaml", pm).string());
+        EXPECT_EQ(r.status, 0) << r.output;
+    }
+    expectRefused({"radius-zero", replaceLine(pm, "{volume: 0.3}", "{volume: 0}"), ":24:29",
+                   "search_radius_m.volume: 0 is out of range; allowed [0.0001, 100]"});
+    expectRefused({"radius-negative", replaceLine(pm, "{volume: 0.3}", "{volume: -0.5}"), ":24:29",
+                   "search_radius_m.volume: -0.5 is out of range; allowed [0.0001, 100]"});
+    expectRefused({"solver-without-photons", replaceLine(pm, "  photons: {volume: 20000}\n", ""), ":13:13",
+                   "medium 'water': the medium-pm solver needs the volume photon map: set render.photons.volume"});
+    expectRefused({"photons-over-budget", replaceLine(pm, "{volume: 20000}", "{volume: 9000000000}"), ":23:21",
+                   "more than the memory budget"});
+}
