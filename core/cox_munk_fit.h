@@ -37,6 +37,17 @@ template <> struct EnumNames<CoxMunkSea> {
         {CoxMunkSea::Clean, "clean"}, {CoxMunkSea::Slick, "slick"}, {CoxMunkSea::Dissertation, "dissertation"}};
 };
 
+// The microfacet shadowing-masking term of the rough interface (render/rough_dielectric.h says what
+// each does). It sits here, beside the slope statistics, so that the Scene IR (core/) can carry it.
+enum class MicrofacetShadowing { None, SmithLight, SmithSeparable };
+
+template <> struct EnumNames<MicrofacetShadowing> {
+    using M = MicrofacetShadowing;
+    static constexpr std::string_view what = "microfacet shadowing";
+    static constexpr EnumName<M> table[] = {
+        {M::None, "none"}, {M::SmithLight, "smith-light"}, {M::SmithSeparable, "smith-separable"}};
+};
+
 struct SlopeVariances {
     double upwind = 0, crosswind = 0;  // sigma_u^2, sigma_c^2
     double total() const { return upwind + crosswind; }

@@ -180,9 +180,16 @@ std::string toJsonText(const SceneIR& s) {
         if (m.type == Material::Type::Textured)
             mj["texture"] = {{"file", m.texture},
                              {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
+        if (m.type == Material::Type::Classified)
+            mj["class_map"] = {{"file", m.texture},
+                               {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})},
+                               {"classes", m.classMaterials}};
         if (m.type == Material::Type::RoughDielectric) {
             mj["wind_speed_mps"] = m.windSpeed;
             mj["wind_azimuth_rad"] = m.windAzimuth;
+            mj["sea"] = nm(m.sea);
+            mj["gram_charlier"] = m.gramCharlier;
+            mj["shadowing"] = nm(m.shadowing);
         }
         mats.push_back(mj);
     }
@@ -486,7 +493,8 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     auto mats = r["materials"];
     for (size_t i = 0; i < mats.size(); ++i) {
         auto m = mats.at(i);
-        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad"});
+        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad", "sea",
+                      "gram_charlier", "shadowing", "class_map"});
         Material mt;
         mt.name = m["name"].str();
         mt.type = m["type"].choice<Material::Type>();
@@ -503,8 +511,33 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
             mt.textureX1 = e[2];
             mt.textureY1 = e[3];
         }
+        // Keys that belong to one material type are refused on the others (they would do nothing).
+        if (mt.type != Material::Type::RoughDielectric)
+            for (const char* k : {"wind_speed_mps", "wind_azimuth_rad", "sea", "gram_charlier", "shadowing"})
+                if (m.has(k)) m[k].fail("only a rough-dielectric material has this key");
+        if (mt.type != Material::Type::Classified && m.has("class_map"))
+            m["class_map"].fail("only a classified material has a class map");
+        if (m.has("class_map")) {
+            auto c = m["class_map"];
+            c.expectKeys({"file", "extent_m", "classes"});
+            mt.texture = c["file"].str();
+            const auto e = c["extent_m"].nums();
+            if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
+                c["extent_m"].fail("expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0");
+            mt.textureX0 = e[0];
+            mt.textureY0 = e[1];
+            mt.textureX1 = e[2];
+            mt.textureY1 = e[3];
+            mt.classMaterials = c["classes"].strings();
+            if (mt.classMaterials.empty() || mt.classMaterials.size() > 65536)
+                c["classes"].fail("expected 1 to 65536 class material names (one per raster value)");
+        }
+        if (mt.type == Material::Type::Classified && !m.has("class_map")) m.fail("a classified material needs 'class_map'");
         if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
         if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
+        if (m.has("sea")) mt.sea = m["sea"].choice<CoxMunkSea>();
+        if (m.has("gram_charlier")) mt.gramCharlier = m["gram_charlier"].boolean();
+        if (m.has("shadowing")) mt.shadowing = m["shadowing"].choice<MicrofacetShadowing>();
         s.materials.push_back(mt);
     }
     auto meshes = r["meshes"];
@@ -610,6 +643,8 @@ void validateNamesAndPaths(const SceneIR& s, const std::string& file) {
     for (size_t i = 0; i < s.materials.size(); ++i)
         if (s.materials[i].type == Material::Type::Textured)
             relative(fmt::format("materials[{}].texture.file", i), s.materials[i].texture);
+        else if (s.materials[i].type == Material::Type::Classified)
+            relative(fmt::format("materials[{}].class_map.file", i), s.materials[i].texture);
     std::vector<std::string> sensorNames;
     for (const auto& c : s.sensors) sensorNames.push_back(c.name);
     if (const auto clash = findOutputClash(sensorNames, !s.probes.empty())) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/mesh.h"
 #include "core/names.h"
@@ -83,6 +84,8 @@ struct Material {
         Black,           // absorbs everything (r = 0)
         Periodic,        // a side wall of a horizontally periodic domain: rays leave through it and
                          // re-enter through the opposite wall (SceneIR::domain)
+        Classified,      // a classification map: the material at a point is the one its class names,
+                         // looked up where the ray lands (`texture`, extent, `classMaterials`)
     };
     // The dirsig estimator's per-material solver (Table 10.4). Unset: the estimator's default for
     // the material type (Classic for diffuse materials, Fresnel for interfaces); other estimators
@@ -96,10 +99,22 @@ struct Material {
     // value multiplies `reflectance`), draped over the plan-view rectangle [x0, x1] x [y0, y1].
     std::string texture;
     double textureX0 = 0, textureY0 = 0, textureX1 = 1, textureY1 = 1;
+    // Classified: `texture` is the class map, an 8- or 16-bit single-channel integer image whose
+    // pixels cover [textureX0, textureX1] x [textureY0, textureY1] in plan view (row 0 north, column 0
+    // west, pixel-is-area); raster value v selects the material classMaterials[v] ("" for a value the
+    // map does not use). The renderer reads the class at each hit point's (x, y): class boundaries
+    // are as sharp as the map, whatever the mesh. Named materials must be diffuse (lambertian or
+    // textured).
+    std::vector<std::string> classMaterials;
     // RoughDielectric: Cox–Munk wind speed at 12.5 m (m/s) and the azimuth the wind blows toward,
-    // counter-clockwise from +x (east), radians.
+    // counter-clockwise from +x (east), radians; which Cox–Munk fit gives the slope variances,
+    // whether the Gram–Charlier terms are on (clean sea only) and the microfacet shadowing term
+    // (render/rough_dielectric.h).
     double windSpeed = 0.0;
     double windAzimuth = 0.0;
+    CoxMunkSea sea = CoxMunkSea::Clean;
+    bool gramCharlier = false;
+    MicrofacetShadowing shadowing = MicrofacetShadowing::None;
     SourceLoc origin;  // where a scene file defined it (not serialised; for messages)
 };
 
@@ -270,7 +285,8 @@ template <> struct EnumNames<ir::Material::Type> {
                                                              {ir::Material::Type::Dielectric, "dielectric"},
                                                              {ir::Material::Type::RoughDielectric, "rough-dielectric"},
                                                              {ir::Material::Type::Black, "black"},
-                                                             {ir::Material::Type::Periodic, "periodic"}};
+                                                             {ir::Material::Type::Periodic, "periodic"},
+                                                             {ir::Material::Type::Classified, "classified"}};
 };
 template <> struct EnumNames<ir::Material::Solver> {
     static constexpr std::string_view what = "radiometry solver";

@@ -1,5 +1,6 @@
 // Writes the object library: barge, small boat (hull slot 0, deck slot 1), buoy, pier with pilings
-// (deck slot 0, pilings slot 1, one fused closed solid) and a bright/dark step target, as binary PLY
+// (deck slot 0, pilings slot 1, one fused closed solid), a bright/dark step target and a 1 m cube (the
+// dissertation's transparent epoxy cube, Sec. 10.4, with a dielectric material), as binary PLY
 // with per-face material slots. Usage: gen_objects [OUT_DIR] (default data_synthetic/objects).
 #include <cstdio>
 #include <exception>

@@ -5,7 +5,9 @@
 //    weights r_f and T_f = 1 - r_f (Eq. 4.2), Snell directions (Eq. 4.1), total internal
 //    reflection, and the n^2 radiance law. The first `splits` interface events of a path trace
 //    both lobes (deterministic, noise-free images of smooth water); later events choose one lobe
-//    with probability r_f (unbiased).
+//    with probability r_f (unbiased). Rough (Cox–Munk) interfaces: the microfacet BxDF of
+//    render/rough_dielectric.h, the sun by next-event estimation on the air side combined with
+//    BSDF sampling by the power heuristic, and one sampled direction per event.
 //  * Classic (diffuse): direct sun by next-event estimation plus the sky seen over a stratified
 //    jittered skydome of mu x phi equal-projected-solid-angle quads, one ray per quad: the
 //    fraction of quad rays that reach the sky is the visible sky fraction F of Eq. 6.1. Sky rays
@@ -81,7 +83,7 @@ public:
         PathState st;
         st.medium = medium;
         st.splits = 1;
-        st.chain = SunChain::afterVertex();
+        st.chain = chainAfterVertex(medium);
         return trace(ray, st, rng);
     }
 
@@ -104,6 +106,10 @@ private:
     Spec trace(const Ray& ray, const PathState& st, RandomStream& rng) const;
     Spec shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                         RandomStream& rng) const;
+    // Rough (Cox–Munk) interfaces under the Fresnel solver: sun next-event estimation with MIS and
+    // one sampled direction per event.
+    Spec shadeRoughInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
+                             RandomStream& rng) const;
     Spec shadeDiffuse(const SurfaceHit& h, const Vec3& wo, const PathState& st, RandomStream& rng) const;
 
     // Calls f(shift) for the domain-period shifts under which a query reaching from lo to hi must
@@ -261,7 +267,7 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
                                      : Spec(group_.count);
         // An infinitely long path through an attenuating medium carries nothing more.
         if (medium.attenuating()) return L;
-        return L + environment(ray.d, st.chain.countsSun());
+        return L + environment(ray.d, st.chain);
     }
     const MaterialData& m = scene_.material(h);
     if (m.isPeriodicWall()) {
@@ -270,6 +276,7 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
                                      : Spec(group_.count);
         if (!next || st.wraps >= Scene::kMaxWraps) return L;
         PathState s2 = st;
+        s2.chain.hitSurface();
         ++s2.wraps;
         s2.startNormal = Normal3{0, 0, 0};
         return L + trace(*next, s2, rng) * transmittance(ray, h.t, st.medium);
@@ -279,15 +286,12 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     const BxDF bxdf = scene_.bxdf(h, group_);
     const int segMedium = bxdf.isTransmissive() ? scene_.nearMedium(h) : st.medium;
     Spec Lsurf(group_.count);
-    if (bxdf.isDelta()) {
-        PathState s2 = st;
-        s2.medium = segMedium;
-        Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
-    } else if (!st.skyOnly) {
-        PathState s2 = st;
-        s2.medium = segMedium;
-        Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
-    }
+    PathState s2 = st;
+    s2.medium = segMedium;
+    s2.chain.hitSurface();
+    if (bxdf.isDelta()) Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
+    else if (bxdf.isGlossy()) Lsurf = shadeRoughInterface(ray, h, bxdf, s2, rng);
+    else if (!st.skyOnly) Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
     const Spec inScatter =
         mediumPM(segMedium) ? volumeInScatter(ray, h.t, segMedium, h.ng, st.startNormal) : Spec(group_.count);
     if (Lsurf.isBlack()) return inScatter;
@@ -302,7 +306,7 @@ Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const 
     PathState next = st;
     next.specularDepth = st.specularDepth + 1;
 
-    const Frame frame = Frame::fromNormal(h.ng);  // +z on the mesh's outside
+    const Frame frame = scene_.shadingFrame(h);  // +z on the mesh's outside
     const Vec3 wo = frame.toLocal(-ray.d);
     if (std::abs(wo.z) < 1e-12) {
         // Exactly tangent to the face: r_f = 1 at grazing incidence and the mirror direction is
@@ -337,6 +341,29 @@ Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const 
     return follow(*s, s->f * std::abs(s->wi.z) / s->pdf, next);
 }
 
+Spec DirsigEstimator::shadeRoughInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
+                                          RandomStream& rng) const {
+    Spec L(group_.count);
+    if (st.specularDepth >= config_.maxSpecularDepth) return L;
+    const Frame frame = scene_.shadingFrame(h);
+    const Vec3 wo = frame.toLocal(-ray.d);
+    // The sun by next-event estimation on the air side (MIS against BSDF sampling), then one
+    // direction sampled from the microfacet BxDF (Walter et al. 2007). Classic sky rays pass the
+    // interface the same way (as they pass smooth ones, with the disc counted by the chain rules).
+    int neeSide = 0;
+    L += glossySun(h, frame, bxdf, wo, st.chain, rng, &neeSide);
+    const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+    const auto s = bxdf.sample(wo, uc, Vec2{u1, u2}, TransportMode::Radiance);
+    if (!s || !(s->pdf > 0)) return L;
+    PathState next = st;
+    next.specularDepth = st.specularDepth + 1;
+    next.medium = s->isTransmission() ? scene_.farMedium(h) : st.medium;
+    next.chain = chainAfterGlossy(st.chain, *s, neeSide);
+    next.startNormal = h.ng;
+    const Vec3 wi = normalize(frame.toWorld(s->wi));
+    return L + trace(spawnRay(h.p, h.ng, wi), next, rng) * (s->f * std::abs(s->wi.z) / s->pdf);
+}
+
 Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, const PathState& st,
                                    RandomStream& rng) const {
     const int nb = group_.count;
@@ -364,7 +391,7 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     next.specularDepth = st.specularDepth;
     next.splits = 1;
     next.wraps = st.wraps;
-    next.chain = SunChain::afterVertex();
+    next.chain = chainAfterVertex(st.medium);
     next.skyOnly = classic;
     next.startNormal = n;
     // The first diffuse vertex of a path integrates its hemisphere with N stratified rays; deeper

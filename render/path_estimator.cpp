@@ -22,7 +22,9 @@
 // Either way a ray leaving a scattering event does not count the solar disc along the chains the
 // sun estimate covers (SunChain), so nothing is counted twice. Diffuse surfaces get the sun by
 // next-event estimation and continue by BxDF sampling; delta interfaces split into both Fresnel
-// lobes for the first few events and then choose one. Russian roulette on the throughput after
+// lobes for the first few events and then choose one; rough (glossy) interfaces estimate the sun
+// on their air side by next-event estimation combined with BSDF sampling by multiple importance
+// sampling (power heuristic) and continue along one sampled direction. Russian roulette on the throughput after
 // three scattering vertices, as a weight window (see roulette()), keeps the estimate unbiased.
 #include <algorithm>
 #include <cmath>
@@ -87,7 +89,7 @@ public:
     Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const override {
         Walk w;
         w.splits = 1;
-        return trace(ray, medium, SunChain::afterVertex(), w, rng);
+        return trace(ray, medium, chainAfterVertex(medium), w, rng);
     }
 
 private:
@@ -160,17 +162,21 @@ Spec PathEstimator::sunScattered(const Point3& x, int layer, const Vec3& dir, in
     if (us < 0.5) {
         sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
     } else {
-        rng.uniform(), rng.uniform();  // the disc strategy's two numbers
+        // The disc strategy's numbers (two, and two more under a rough interface): the disc point
+        // is shared by both strategies, which differ in how the direction toward it is chosen.
+        const double d1 = rng.uniform(), d2 = rng.uniform();
+        if (roughSun(medium)) rng.uniform(), rng.uniform();
         // A direction toward the light w with density p(angle(w, dir)): light arriving along -w
         // scatters into -dir at that same angle.
         const Vec3 w = md.sampleAround(layer, group_, dir, u0, u1, u2, u3);
-        sun = sunAlong(x, none, w, medium);
+        sun = sunAlong(x, none, w, medium, Vec2{d1, d2});
     }
     if (!sun.valid) return Spec(group_.count);
     const double pMix = md.pdfAround(layer, group_, dir, sun.toSun);
-    const double mix = 0.5 / sun.solidAngle + 0.5 * pMix;
-    // f / mix with f = L p, L = E / Omega.
-    return md.phase(layer, group_, -sun.toSun, -dir) * sun.E * (1.0 / (sun.solidAngle * mix));
+    const double mix = 0.5 * sun.pdf + 0.5 * pMix;
+    if (!(mix > 0)) return Spec(group_.count);
+    // f / mix with f = L p (balance heuristic over the two strategies' densities of toSun).
+    return md.phase(layer, group_, -sun.toSun, -dir) * sun.L * (1.0 / mix);
 }
 
 Spec PathEstimator::sunInScatter(const Ray& ray, double tMax, int medium, RandomStream& rng) const {
@@ -257,7 +263,7 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
                 const Vec3 wi = sampleContinuation(md, medium, ff.layer, ray.d, rng, &w);
                 beta *= w;
                 ray = Ray{x, wi};
-                chain = SunChain::afterVertex();
+                chain = chainAfterVertex(medium);
                 continue;
             }
             if (beta.isBlack()) break;
@@ -266,9 +272,10 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
             beta *= md.transmittance(ray, h.t, group_);
         }
         if (!hit) {
-            L += beta * environment(ray.d, chain.countsSun());
+            L += beta * environment(ray.d, chain);
             break;
         }
+        chain.hitSurface();
         const MaterialData& m = scene_.material(h);
         if (m.isPeriodicWall()) {
             const auto next = scene_.wrapRay(h, ray.d);
@@ -277,9 +284,26 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
             continue;
         }
         const BxDF bxdf = scene_.bxdf(h, group_);
+        if (bxdf.isGlossy()) {
+            // Rough interface: the sun by next-event estimation (MIS against BSDF sampling), then
+            // one direction sampled from the BxDF.
+            if (++specular > config_.maxSpecularDepth) break;
+            const Frame frame = scene_.shadingFrame(h);
+            const Vec3 wo = frame.toLocal(-ray.d);
+            int neeSide = 0;
+            L += beta * glossySun(h, frame, bxdf, wo, chain, rng, &neeSide);
+            const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+            const auto s = bxdf.sample(wo, uc, Vec2{u1, u2}, TransportMode::Radiance);
+            if (!s || !(s->pdf > 0)) break;
+            beta *= s->f * std::abs(s->wi.z) / s->pdf;
+            chain = chainAfterGlossy(chain, *s, neeSide);
+            medium = s->isTransmission() ? scene_.farMedium(h) : scene_.nearMedium(h);
+            ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(s->wi)));
+            continue;
+        }
         if (bxdf.isDelta()) {
             if (++specular > config_.maxSpecularDepth) break;
-            const Frame frame = Frame::fromNormal(h.ng);
+            const Frame frame = scene_.shadingFrame(h);
             const Vec3 wo = frame.toLocal(-ray.d);
             const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
             if (std::abs(wo.z) < 1e-12) {  // tangent: continues unchanged (see the dirsig estimator)
@@ -353,7 +377,7 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
         beta *= rho * (bxdf.f(woLocal, wiLocal) * std::abs(wiLocal.z) / pdf);
         const Vec3 wiWorld = normalize(frame.toWorld(wiLocal));
         ray = spawnRay(h.p, h.ng, wiWorld);
-        chain = SunChain::afterVertex();
+        chain = chainAfterVertex(medium);
     }
     return L;
 }

@@ -192,9 +192,12 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
                 continue;
             }
             const BxDF bxdf = scene.bxdf(h, g);
-            if (bxdf.isDelta()) {
+            if (bxdf.isDelta() || bxdf.isGlossy()) {
+                // Interfaces, smooth or rough: one direction sampled from the BxDF in importance
+                // mode, weighted by f |cos| / pdf (1 for the smooth one; for the rough one the
+                // fraction of its weight a single-scattering microfacet model keeps).
                 if (++specular > 1000) return;
-                const Frame frame = Frame::fromNormal(h.ng);
+                const Frame frame = scene.shadingFrame(h);
                 const Vec3 wo = frame.toLocal(-ray.d);
                 const double uc = rng.uniform(), v1 = rng.uniform(), v2 = rng.uniform();
                 if (std::abs(wo.z) < 1e-12) {

@@ -121,4 +121,36 @@ std::optional<BSDFSample> RoughDielectricBxDF::sample(const Vec3& wo, double uc,
     return s;
 }
 
+std::optional<Vec3> RoughDielectricBxDF::sampleTransmission(const Vec3& wo, const Vec2& u) const {
+    if (wo.z == 0.0) return std::nullopt;
+    const Vec3 h = slopes.sampleNormal(u);
+    const double oh = dot(wo, h);
+    if (oh * wo.z <= 0) return std::nullopt;
+    const bool oAbove = wo.z > 0;
+    const double etaO = oAbove ? nOut : nIn, etaT = oAbove ? nIn : nOut;
+    Vec3 wi;
+    if (!refract(wo, oh > 0 ? h : -h, etaO / etaT, &wi)) return std::nullopt;
+    if (wi.z * wo.z >= 0) return std::nullopt;
+    if (!(pdfTransmission(wo, wi) > 0)) return std::nullopt;  // the same conditions as the density
+    return wi;
+}
+
+double RoughDielectricBxDF::pdfTransmission(const Vec3& wo, const Vec3& wi) const {
+    if (wo.z == 0.0 || wi.z == 0.0 || (wo.z > 0) == (wi.z > 0)) return 0.0;
+    const bool oAbove = wo.z > 0;
+    const double etaO = oAbove ? nOut : nIn, etaI = oAbove ? nIn : nOut;
+    Vec3 h = -(etaO * wo + etaI * wi);
+    const double len = length(h);
+    if (!(len > 0)) return 0.0;
+    h = h / len;
+    if (h.z < 0) h = -h;
+    if (!(h.z > 0)) return 0.0;
+    const double oh = dot(wo, h), ih = dot(wi, h);
+    if (oh * wo.z <= 0 || ih * wi.z <= 0) return 0.0;
+    if (fresnelDielectric(std::abs(oh), etaO, etaI) >= 1.0) return 0.0;  // total internal reflection
+    const double denom = etaO * oh + etaI * ih;
+    // Walter et al. (2007) eq. 17: d omega_h / d omega_i = eta_i^2 |wi.h| / denom^2.
+    return slopes.gaussianD(h) * h.z * etaI * etaI * std::abs(ih) / (denom * denom);
+}
+
 }  // namespace littoral::render

@@ -26,7 +26,7 @@
 // The eta_o^2 carries the n^2 law of radiance (Sec. 4.0); in Importance mode it is eta_i^2, which
 // makes f_importance(wo, wi) = f_radiance(wi, wo), the adjoint BSDF (Veach 1997, ch. 5).
 //
-// Shadowing-masking term G (MicrofacetShadowing):
+// Shadowing-masking term G (MicrofacetShadowing, core/cox_munk_fit.h):
 //   None            G = 1: Eq. 5.4 and the dissertation's analytic predictions (the default).
 //   SmithLight      G = G1(direction the light arrives from): G1(wi) in Radiance mode, G1(wo) in
 //                   Importance mode; the adjoint relation above holds for it.
@@ -67,19 +67,6 @@
 #include "render/cox_munk.h"
 
 namespace littoral::render {
-enum class MicrofacetShadowing { None, SmithLight, SmithSeparable };
-}  // namespace littoral::render
-
-namespace littoral {
-template <> struct EnumNames<render::MicrofacetShadowing> {
-    using M = render::MicrofacetShadowing;
-    static constexpr std::string_view what = "microfacet shadowing";
-    static constexpr EnumName<M> table[] = {
-        {M::None, "none"}, {M::SmithLight, "smith-light"}, {M::SmithSeparable, "smith-separable"}};
-};
-}  // namespace littoral
-
-namespace littoral::render {
 
 struct RoughDielectricBxDF {
     // nOut on the +z side, nIn below; they must differ by more than 1e-6 (InputError otherwise:
@@ -97,6 +84,17 @@ struct RoughDielectricBxDF {
     // uc chooses reflection (uc < F) or refraction; u chooses the microfacet normal.
     std::optional<BSDFSample> sample(const Vec3& wo, double uc, const Vec2& u,
                                      TransportMode mode = TransportMode::Radiance) const;
+
+    // The transmission lobe alone: a microfacet normal h from the Gaussian slope density and the
+    // direction refracted at it, whatever its Fresnel reflectance (nullopt if the normal faces away
+    // from wo, under total internal reflection, or if the refracted direction stays on wo's side).
+    // For estimators that want only transmitted light (the sun seen from under a rough surface:
+    // choosing the lobe by F there would only add the noise of a coin toss). Its density per solid
+    // angle of wi is the transmission pdf above without the lobe choice:
+    //   pdfTransmission = D_gauss(h) h.z eta_i^2 |wi.h| / (eta_o (wo.h) + eta_i (wi.h))^2
+    // (0 for a pair that is not a transmission, or that total internal reflection forbids).
+    std::optional<Vec3> sampleTransmission(const Vec3& wo, const Vec2& u) const;
+    double pdfTransmission(const Vec3& wo, const Vec3& wi) const;
 
     // f and pdf of one pair, with the lobe it belongs to (flags 0 when f = pdf = 0).
     struct Evaluation {

@@ -20,6 +20,40 @@ double Texture::lookup(double x, double y) const {
     return texels[static_cast<size_t>(j) * width + i];
 }
 
+uint16_t ClassRaster::at(double x, double y) const {
+    const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
+    const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
+    const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
+    const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
+    return values[static_cast<size_t>(j) * width + i];
+}
+
+std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), OIIO::geterror()));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels != 1 || (spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.basetype != OIIO::TypeDesc::UINT16))
+        throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
+                                     path.string(), spec.nchannels, spec.format.c_str()));
+    auto r = std::make_shared<ClassRaster>();
+    r->width = spec.width;
+    r->height = spec.height;
+    if (r->width <= 0 || r->height <= 0) throw InputError(fmt::format("{}: class map has no pixels", path.string()));
+    const size_t n = static_cast<size_t>(r->width) * r->height;
+    r->values.resize(n);
+    // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
+    bool ok = false;
+    if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+        std::vector<uint8_t> buf(n);
+        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data());
+        std::copy(buf.begin(), buf.end(), r->values.begin());
+    } else {
+        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r->values.data());
+    }
+    if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in->geterror()));
+    return r;
+}
+
 std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), OIIO::geterror()));
@@ -85,10 +119,27 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Dielectric:
                 d.reflectance.assign(bands_.size(), 0.0);
                 break;
-            case T::RoughDielectric:
-                throw InputError(fmt::format("{}: RoughDielectric (Cox–Munk) interfaces are not supported by this "
-                                             "renderer version; use a faceted Dielectric surface",
-                                             who));
+            case T::RoughDielectric: {
+                d.reflectance.assign(bands_.size(), 0.0);
+                // The frame of the BxDF has its x axis downwind (Scene::shadingFrame), so the
+                // distribution's own wind azimuth is 0.
+                CoxMunkParams p;
+                p.windSpeed = m.windSpeed;
+                p.windAzimuth = 0.0;
+                p.sea = m.sea;
+                p.gramCharlier = m.gramCharlier;
+                try {
+                    d.slopes.emplace(p, m.origin, "wind_speed");
+                } catch (const InputError& e) {
+                    if (!m.origin.file.empty()) throw InputError(m.origin, who + ": " + e.message());
+                    throw InputError(who + ": " + e.message());
+                }
+                d.shadowing = m.shadowing;
+                if (!std::isfinite(m.windAzimuth))
+                    throw InputError(fmt::format("{}: wind azimuth {} is not a finite angle", who, m.windAzimuth));
+                d.downwind = Vec3{std::cos(m.windAzimuth), std::sin(m.windAzimuth), 0.0};
+                break;
+            }
             case T::Periodic:
                 if (!ir.domain.periodic)
                     throw InputError(fmt::format("{}: a periodic wall needs a periodic domain (domain.horizontal: "
@@ -99,8 +150,50 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Black:
                 d.reflectance.assign(bands_.size(), 0.0);
                 break;
+            case T::Classified: {
+                d.reflectance.assign(bands_.size(), 0.0);
+                if (m.texture.empty()) throw InputError(fmt::format("{}: a classified material needs a class map", who));
+                if (!(m.textureX1 > m.textureX0) || !(m.textureY1 > m.textureY0))
+                    throw InputError(fmt::format("{}: class map extent [{}, {}] x [{}, {}] is empty", who, m.textureX0,
+                                                 m.textureX1, m.textureY0, m.textureY1));
+                auto map = loadClassRaster(irDir / m.texture);
+                map->x0 = m.textureX0;
+                map->x1 = m.textureX1;
+                map->y0 = m.textureY0;
+                map->y1 = m.textureY1;
+                d.classMap = std::move(map);
+                break;
+            }
         }
         materials_.push_back(std::move(d));
+    }
+    // Class maps: each raster value names a diffuse material (resolved now that all are known), and
+    // every value that occurs has one.
+    for (size_t k = 0; k < ir.materials.size(); ++k) {
+        MaterialData& d = materials_[k];
+        if (!d.classMap) continue;
+        const ir::Material& m = ir.materials[k];
+        const std::string who = fmt::format("material '{}'", m.name);
+        d.classMaterial.assign(m.classMaterials.size(), -1);
+        for (size_t v = 0; v < m.classMaterials.size(); ++v) {
+            if (m.classMaterials[v].empty()) continue;
+            for (size_t j = 0; j < ir.materials.size(); ++j)
+                if (ir.materials[j].name == m.classMaterials[v]) d.classMaterial[v] = static_cast<int>(j);
+            if (d.classMaterial[v] < 0)
+                throw InputError(fmt::format("{}: class {} names material '{}', which is not defined", who, v,
+                                             m.classMaterials[v]));
+            const auto t = ir.materials[static_cast<size_t>(d.classMaterial[v])].type;
+            if (t != ir::Material::Type::Lambertian && t != ir::Material::Type::Textured)
+                throw InputError(fmt::format("{}: class {} names material '{}', which is {}; classes must be diffuse "
+                                             "(lambertian or textured)",
+                                             who, v, m.classMaterials[v], nameOf(t)));
+        }
+        std::vector<size_t> count(65536, 0);
+        for (uint16_t v : d.classMap->values) ++count[v];
+        for (size_t v = 0; v < count.size(); ++v)
+            if (count[v] > 0 && (v >= d.classMaterial.size() || d.classMaterial[v] < 0))
+                throw InputError(fmt::format("{}: the class map {} holds value {} ({} pixels), which names no material",
+                                             who, m.texture, v, count[v]));
     }
 
     for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
@@ -123,9 +216,37 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             if (s >= slots.size())
                 throw InputError(fmt::format("{}: a face uses material slot {} but the mesh lists {} materials", who,
                                              s, slots.size()));
+        const int in = mediumIndex(mesh.inside, who + " inside"), out = mediumIndex(mesh.outside, who + " outside");
+        // A rough interface refracts only between different indices (render/rough_dielectric.h).
+        for (int k : slots)
+            if (materials_[static_cast<size_t>(k)].isRough())
+                for (size_t b = 0; b < bands_.size(); ++b)
+                    if (std::abs(media_[static_cast<size_t>(in)].n(static_cast<int>(b)) -
+                                 media_[static_cast<size_t>(out)].n(static_cast<int>(b))) <= 1e-6)
+                        throw InputError(fmt::format("{}: rough interface '{}' between media of equal refractive index "
+                                                     "({}) in band {}; a rough interface needs different indices",
+                                                     who, materials_[static_cast<size_t>(k)].name,
+                                                     media_[static_cast<size_t>(in)].n(static_cast<int>(b)), b));
+        // A class map must cover, in plan view, every mesh that uses it (the lookup would otherwise
+        // clamp to its edge pixels and invent classes there).
+        for (size_t s = 0; s < slots.size(); ++s) {
+            const MaterialData& d = materials_[static_cast<size_t>(slots[s])];
+            if (!d.classMap) continue;
+            BBox3 b;
+            for (size_t f = 0; f < mesh.data.triangles.size(); ++f)
+                if (mesh.data.materialOf(f) == s)
+                    for (uint32_t v : mesh.data.triangles[f]) b.expand(mesh.data.positions[v]);
+            if (b.empty()) continue;
+            const ClassRaster& r = *d.classMap;
+            const double tol = 1e-6 * std::max({1.0, r.x1 - r.x0, r.y1 - r.y0});
+            if (b.lo.x < r.x0 - tol || b.hi.x > r.x1 + tol || b.lo.y < r.y0 - tol || b.hi.y > r.y1 + tol)
+                throw InputError(fmt::format("{}: the class map of material '{}' covers [{}, {}] x [{}, {}] m, but the "
+                                             "faces that use it span [{}, {}] x [{}, {}] m; the map must cover them",
+                                             who, d.name, r.x0, r.x1, r.y0, r.y1, b.lo.x, b.hi.x, b.lo.y, b.hi.y));
+        }
         meshMaterials_.push_back(std::move(slots));
-        meshInside_.push_back(mediumIndex(mesh.inside, who + " inside"));
-        meshOutside_.push_back(mediumIndex(mesh.outside, who + " outside"));
+        meshInside_.push_back(in);
+        meshOutside_.push_back(out);
     }
 
     sun_ = makeSun(ir.sun, bands_);
@@ -136,9 +257,31 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
 }
 
 BxDF Scene::bxdf(const SurfaceHit& h, BandGroup g) const {
-    if (materials_[materialIndex(h)].isInterface())
+    const MaterialData& m = materials_[materialIndex(h)];
+    if (m.isRough())
+        return roughBxdf(materialIndex(h), media_[meshOutside_[h.mesh]].n(g.begin), media_[meshInside_[h.mesh]].n(g.begin));
+    if (m.isInterface())
         return DielectricBxDF{media_[meshOutside_[h.mesh]].n(g.begin), media_[meshInside_[h.mesh]].n(g.begin)};
     return LambertianBxDF{1.0};
+}
+
+RoughDielectricBxDF Scene::roughBxdf(int material, double nOut, double nIn) const {
+    const MaterialData& m = materials_[static_cast<size_t>(material)];
+    LITTORAL_CHECK(m.slopes.has_value());
+    return RoughDielectricBxDF(nOut, nIn, *m.slopes, m.shadowing);
+}
+
+Frame Scene::shadingFrame(const SurfaceHit& h) const {
+    const MaterialData& m = materials_[materialIndex(h)];
+    if (m.isRough()) {
+        // Downwind projected on the face; on a face that is (nearly) vertical and facing downwind the
+        // projection vanishes, and the crosswind axis serves (the distribution is then rotated by
+        // 90 degrees on that face, which only a wall-like face can notice).
+        const Vec3 d = m.downwind - dot(m.downwind, h.ng) * h.ng;
+        if (dot(d, d) > 1e-12) return Frame::fromNormalAndTangent(h.ng, m.downwind);
+        return Frame::fromNormalAndTangent(h.ng, Vec3{-m.downwind.y, m.downwind.x, 0.0});
+    }
+    return Frame::fromNormal(h.ng);
 }
 
 Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frame.h"
 #include "core/scene_ir.h"
 #include "render/bxdf.h"
 #include "render/embree_scene.h"
@@ -26,6 +27,20 @@ struct Texture {
     double lookup(double x, double y) const;
 };
 
+// A classification raster in plan view: integer class values over [x0, x1] x [y0, y1], row 0 the
+// north edge, column 0 the west edge, pixel-is-area; points outside take the nearest edge pixel
+// (the Scene checks that the meshes using it lie inside).
+struct ClassRaster {
+    int width = 0, height = 0;
+    std::vector<uint16_t> values;
+    double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
+    uint16_t at(double x, double y) const;
+};
+
+// Reads an 8- or 16-bit single-channel integer image without rescaling its values. InputError if it
+// cannot.
+std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path);
+
 // A material on the render bands. Transport asks for its BxDF (Scene::bxdf) and that BxDF's flags;
 // `type` is kept for messages, truth images and the periodic-wall test only.
 struct MaterialData {
@@ -34,8 +49,21 @@ struct MaterialData {
     std::optional<ir::Material::Solver> solver;  // as given (the dirsig estimator resolves defaults)
     std::vector<double> reflectance;  // per band (0 for interfaces and black)
     std::shared_ptr<const Texture> texture;
+    // RoughDielectric: the Cox–Munk slope distribution, built once (with Gram–Charlier terms its
+    // normalisation is a quadrature), in the frame whose x axis is the downwind direction
+    // (windAzimuth 0); `downwind` is that direction in the world (horizontal, unit).
+    std::optional<CoxMunkDistribution> slopes;
+    MicrofacetShadowing shadowing = MicrofacetShadowing::None;
+    Vec3 downwind{1, 0, 0};
+    // Classified: the class map, and per raster value the index of the material it names (-1: the
+    // value does not occur). Scene::materialIndex resolves a hit through it.
+    std::shared_ptr<const ClassRaster> classMap;
+    std::vector<int> classMaterial;
     // Interfaces let light through to the mesh's other medium; everything else is opaque.
-    bool isInterface() const { return type == ir::Material::Type::Dielectric; }
+    bool isInterface() const {
+        return type == ir::Material::Type::Dielectric || type == ir::Material::Type::RoughDielectric;
+    }
+    bool isRough() const { return type == ir::Material::Type::RoughDielectric; }
     bool isOpaque() const { return !isInterface() && type != ir::Material::Type::Periodic; }
     bool isPeriodicWall() const { return type == ir::Material::Type::Periodic; }
 };
@@ -59,13 +87,28 @@ public:
     const std::vector<Medium>& media() const { return media_; }
     const std::vector<MaterialData>& materials() const { return materials_; }
 
-    // Global material index of a hit (through the mesh's slot list).
-    int materialIndex(const SurfaceHit& h) const { return meshMaterials_[h.mesh][h.slot]; }
+    // Global material index of a hit: through the mesh's slot list, and for a classified material
+    // through its class map at the hit's plan position (x, y), so every estimator, the photon pass and
+    // the truth images see the class of the point the ray landed on.
+    int materialIndex(const SurfaceHit& h) const {
+        const int m = meshMaterials_[h.mesh][h.slot];
+        const MaterialData& d = materials_[static_cast<size_t>(m)];
+        return d.classMap ? d.classMaterial[d.classMap->at(h.p.x, h.p.y)] : m;
+    }
     const MaterialData& material(const SurfaceHit& h) const { return materials_[materialIndex(h)]; }
     // The BxDF at a hit for the bands of g, in the hit's local frame (+z = the mesh's outward
     // normal): Lambertian with unit reflectance for diffuse materials (the per-band reflectance is
     // albedo()), a smooth dielectric between the mesh's outside and inside media for interfaces.
+    // Rough interfaces: the Cox–Munk microfacet BxDF (render/rough_dielectric.h) between the same
+    // two media, in the frame shadingFrame(h) returns.
     BxDF bxdf(const SurfaceHit& h, BandGroup g) const;
+    // The local frame of bxdf(h): +z the mesh's outward geometric normal; x along the downwind
+    // direction projected on the face for rough interfaces (the slope distribution is anisotropic),
+    // any tangent otherwise.
+    Frame shadingFrame(const SurfaceHit& h) const;
+    // The rough interface of material `material` seen as a horizontal surface (+z up, x downwind)
+    // between its mesh's media for the bands of g, for sampling directions before a hit is known.
+    RoughDielectricBxDF roughBxdf(int material, double nOut, double nIn) const;
     // Per-band diffuse reflectance at a hit (texture applied); zero for interfaces and black.
     Spec albedo(const SurfaceHit& h, BandGroup g) const;
     // Medium on the side of the hit the ray came from, and on the far side (interfaces).

@@ -15,7 +15,7 @@
 // Sky: uniform radiance L_sky over the upper hemisphere (z > 0); zero below the horizon (no
 // ground beyond the scene). The downwelling irradiance of the sky alone is E_sky = pi L_sky;
 // the thesis' "skyfraction" F_u maps to L_sky = F_u E_h / pi and E_sun = (1 - F_u) E_h / cos
-// theta_s for a hemisphere irradiance E_h (Eq. 4.5; skyFractionSplit below).
+// theta_s for a hemisphere irradiance E_h (the horizontal convention; skyFractionSplit below).
 #include <vector>
 
 #include "core/scene_ir.h"
@@ -50,7 +50,9 @@ SkySource makeSky(const ir::Sky& sky, const std::vector<Band>& bands);
 
 // The thesis' simple atmosphere: total horizontal irradiance E_h split by skyfraction F_u into a
 // uniform sky of radiance F_u E_h / pi and a sun whose horizontal irradiance is (1 - F_u) E_h,
-// i.e. beam-normal irradiance (1 - F_u) E_h / cos(theta_s) (Eq. 4.5).
+// i.e. beam-normal irradiance (1 - F_u) E_h / cos(theta_s) (scene files: sky.sun_plane:
+// horizontal, the default; DIRSIG's Eq. 4.5 itself puts (1 - F_u) E_h normal to the beam, which
+// scene files offer as sun_plane: normal, scenegen/scene_file.cpp).
 struct SkyFractionSplit {
     double skyRadiance;
     double sunBeamIrradiance;

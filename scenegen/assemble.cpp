@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -45,6 +46,7 @@ std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const 
     throw InternalError("unknown bathymetry kind");
 }
 
+// The smooth air-water interface; water.surface.roughness makes it the rough (Cox-Munk) one.
 ir::Material interfaceMaterial() {
     ir::Material m;
     m.name = "air-water-interface";
@@ -82,6 +84,24 @@ surfaces::WaveParams defaultWaterSurface(const bathymetry::Extent& d) {
     p.spacing = 0.25 * std::min(d.width(), d.height());
     p.triangles = 0;
     return p;
+}
+
+// Drops the vertices no face uses (after faces moved to another mesh), keeping the order of the rest.
+void compactVertices(TriMesh& m) {
+    std::vector<uint32_t> remap(m.positions.size(), UINT32_MAX);
+    std::vector<Point3> kept;
+    for (auto& t : m.triangles)
+        for (auto& v : t) {
+            if (remap[v] == UINT32_MAX) remap[v] = 0;
+        }
+    for (size_t i = 0; i < m.positions.size(); ++i)
+        if (remap[i] != UINT32_MAX) {
+            remap[i] = static_cast<uint32_t>(kept.size());
+            kept.push_back(m.positions[i]);
+        }
+    for (auto& t : m.triangles)
+        for (auto& v : t) v = remap[v];
+    m.positions = std::move(kept);
 }
 
 nlohmann::json meshSummary(const TriMesh& m) {
@@ -129,6 +149,16 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
 
     std::set<std::string> known;
     for (const auto& m : ir.materials) known.insert(m.name);
+    // Dielectric materials of the materials section: each names the medium inside the objects that
+    // use it (scene_file.cpp made both).
+    std::set<std::string> dielectrics;
+    for (const auto& m : spec.materials)
+        if (m.type == "dielectric") dielectrics.insert(m.name);
+    auto dielectricLoc = [&](const std::string& name) {
+        for (const auto& m : spec.materials)
+            if (m.name == name) return m.loc;
+        return SourceLoc{};
+    };
 
     // ---- texture classes (terrain materials) ----
     t = Clock::now();
@@ -143,10 +173,17 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
                                                                m.name));
             ir.materials.push_back(m);
             known.insert(m.name);
-            terrainMaterials.push_back(m.name);
         }
-        const TextureClasses* tc = &*out.textures;
-        materialAt = [tc](double x, double y) { return tc->slotAt(x, y); };
+        // The ground's faces carry one classified material: the renderer looks the class up where
+        // each ray lands, so class boundaries are as sharp as the map whatever the terrain grid.
+        const ir::Material classified = out.textures->classifiedMaterial("texture-classes");
+        if (known.count(classified.name))
+            throw InputError(classesSpec->loc, fmt::format("'{}' is the name of the material Littoral makes for the "
+                                                           "class map; rename the material or class that uses it",
+                                                           classified.name));
+        ir.materials.push_back(classified);
+        known.insert(classified.name);
+        terrainMaterials = {classified.name};
         if (!bathy.material.empty())
             throw InputError(bathy.loc, "bathymetry.material is not used when texture_classes assigns the ground "
                                         "materials; remove it");
@@ -156,6 +193,10 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
                                         "add a texture_classes section");
         if (!known.count(bathy.material))
             throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'",
+                                                    bathy.material));
+        if (dielectrics.count(bathy.material))
+            throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is a dielectric; the ground must be "
+                                                    "opaque (dielectrics are for objects)",
                                                     bathy.material));
         terrainMaterials.push_back(bathy.material);
     }
@@ -179,13 +220,26 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     // ---- objects ----
     t = Clock::now();
     std::vector<PlacedObject> placed;
+    std::map<size_t, TriMesh> wholeSolids;  // transparent objects in water: the closed solid
+    std::vector<std::string> objectMedium;  // per object: its dielectric's medium, or "" (opaque)
     for (const auto& o : objects) {
-        for (const auto& m : o.materials)
+        std::string medium;
+        for (const auto& m : o.materials) {
             if (!known.count(m))
                 throw InputError(o.loc, fmt::format("object '{}': material '{}' is not defined under 'materials' or "
                                                     "texture_classes",
                                                     o.name, m));
+            if (!dielectrics.count(m) || m == medium) continue;
+            // A transparent object is filled with its dielectric: one per object.
+            if (!medium.empty())
+                throw InputError(o.loc, fmt::format("object '{}' uses two dielectrics, '{}' and '{}'; an object is "
+                                                    "filled with one medium (split it into two objects)",
+                                                    o.name, medium, m));
+            medium = m;
+        }
+        objectMedium.push_back(medium);
         placed.push_back(loadObject(o, frame ? &*frame : nullptr, spec.waterLevel));
+        placed.back().solid.keepDryPart = !medium.empty();
     }
     {
         std::vector<const TriMesh*> meshes;
@@ -202,9 +256,11 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     bool valid = true;
     if (spec.hasWater) {
         surfaces::WaveParams wp;
+        ir::Material interface = interfaceMaterial();
         if (spec.waterSurface) {
             wp = parseWaterSurface(*spec.waterSurface);
             checkSurfaceCoverage(wp, domain, spec.waterSurface->loc());
+            if (auto rough = parseSurfaceRoughness(*spec.waterSurface, wp, interface.name)) interface = *rough;
         } else {
             wp = defaultWaterSurface(domain);
         }
@@ -223,7 +279,7 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         in.terrainSpacing = bathy.spacing;
         in.terrainMaterials = terrainMaterials;
         in.terrainMaterialAt = materialAt;
-        in.interfaceMaterial = interfaceMaterial().name;
+        in.interfaceMaterial = interface.name;
         in.wallMaterial = wallMaterial(spec.periodic).name;
         for (const auto& p : placed) in.solids.push_back(p.solid);
         WaterVolumeResult wv = buildWaterVolume(in);
@@ -231,7 +287,7 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         out.seconds.waterTerrain = wv.secondsTerrain;
         out.seconds.waterBoolean = wv.secondsBoolean;
         out.seconds.waterSolids = wv.secondsSolids;
-        for (const auto& m : {interfaceMaterial(), wallMaterial(spec.periodic)})
+        for (const auto& m : {interface, wallMaterial(spec.periodic)})
             if (!known.count(m.name)) {
                 ir.materials.push_back(m);
                 known.insert(m.name);
@@ -250,15 +306,64 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         valid = valid && wr.valid();
         out.seconds.validity += since(t);
 
+        // The water's faces against a transparent object are the interface between the water and
+        // the object's medium: they go to a mesh of their own, "water-<dielectric>", whose outside is
+        // that medium (the object mesh keeps only its dry faces, below).
+        std::map<std::string, TriMesh> contact;
+        {
+            TriMesh rest;
+            rest.positions = wv.water.positions;
+            std::vector<std::string> restMaterials;
+            std::map<uint16_t, uint16_t> restSlot;
+            for (size_t f = 0; f < wv.water.triangles.size(); ++f) {
+                const uint16_t slot = wv.water.faceMaterial[f];
+                const std::string& name = wv.waterMaterials[slot];
+                if (dielectrics.count(name)) {
+                    TriMesh& c = contact[name];
+                    if (c.positions.empty()) c.positions = wv.water.positions;
+                    c.triangles.push_back(wv.water.triangles[f]);
+                    c.faceMaterial.push_back(0);
+                    continue;
+                }
+                auto [it, inserted] = restSlot.try_emplace(slot, static_cast<uint16_t>(restMaterials.size()));
+                if (inserted) restMaterials.push_back(name);
+                rest.triangles.push_back(wv.water.triangles[f]);
+                rest.faceMaterial.push_back(it->second);
+            }
+            if (!contact.empty()) {
+                compactVertices(rest);
+                for (auto& [name, c] : contact) compactVertices(c);
+                wv.water = std::move(rest);
+                wv.waterMaterials = std::move(restMaterials);
+            }
+        }
+
         ir::Mesh wm;
         wm.name = "water";
         wm.file = "meshes/water.ply";
         wm.materials = wv.waterMaterials;
         wm.inside = "water";
         wm.outside = "";
-        wm.closed = wr.valid();
+        wm.closed = wr.valid();  // the water body was checked whole, before its contact faces moved
         wm.data = std::move(wv.water);
         ir.meshes.push_back(std::move(wm));
+        for (auto& [name, c] : contact) {
+            ir::Mesh cm;
+            cm.name = "water-" + name;
+            cm.file = "meshes/water-" + name + ".ply";
+            cm.materials = {name};
+            cm.inside = "water";
+            cm.outside = name;
+            cm.closed = false;
+            cm.data = std::move(c);
+            ir.meshes.push_back(std::move(cm));
+        }
+        if (!wv.dryParts.empty())
+            for (size_t i = 0; i < placed.size(); ++i)
+                if (placed[i].solid.keepDryPart) {
+                    wholeSolids[i] = placed[i].solid.mesh;  // for the geometric checks below
+                    placed[i].solid.mesh = std::move(wv.dryParts[i]);
+                }
         for (size_t i = 0; i < placed.size(); ++i) {
             validity["objects"][placed[i].solid.name]["displaced_water_m3"] = wv.displaced[i];
         }
@@ -292,7 +397,8 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         lm.data = std::move(land);
         ir.meshes.push_back(std::move(lm));
     }
-    for (auto& p : placed) {
+    for (size_t i = 0; i < placed.size(); ++i) {
+        auto& p = placed[i];
         auto& j = validity["objects"][p.solid.name];
         const auto disp = j.contains("displaced_water_m3") ? j["displaced_water_m3"] : nlohmann::json();
         j = p.validity.toJson();
@@ -302,7 +408,10 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
         om.name = p.solid.name;
         om.file = "meshes/object_" + p.solid.name + ".ply";
         om.materials = p.solid.materials;
-        om.closed = true;
+        // A transparent object is filled with its dielectric's medium; in water only its dry faces
+        // remain here (its wet ones are the water's "water-<dielectric>" mesh).
+        om.inside = objectMedium[i];
+        om.closed = objectMedium[i].empty() || !spec.hasWater;
         om.data = std::move(p.solid.mesh);
         ir.meshes.push_back(std::move(om));
     }
@@ -324,8 +433,9 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     {
         // Sensors and probes against the ground, the objects (now in the IR) and the whole scene.
         std::vector<const TriMesh*> meshes;
-        for (const auto& o : objects)
-            if (const ir::Mesh* m = ir.findMesh(o.name)) meshes.push_back(&m->data);
+        for (size_t i = 0; i < objects.size(); ++i)
+            if (wholeSolids.count(i)) meshes.push_back(&wholeSolids.at(i));
+            else if (const ir::Mesh* m = ir.findMesh(objects[i].name)) meshes.push_back(&m->data);
         if (meshes.size() == objects.size()) checkSensorsAndProbes(spec, ir, objects, meshes, elevation, domain);
     }
     ir.metadata["generator"] = "littoral build";

@@ -164,7 +164,10 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
     t.loc = n.loc();
     n.expectKeys({"map", "extent", "classes"});
     t.map = n["map"].asExistingPath();
-    if (auto e = n.optional("extent")) t.extent = parseExtent(*e);
+    if (auto e = n.optional("extent")) {
+        t.extent = parseExtent(*e);
+        t.extentLoc = e->loc();
+    }
     std::set<int> indices;
     std::set<std::string> names;
     for (const auto& c : n["classes"].items()) {

@@ -61,6 +61,7 @@ struct TextureClassSpec {
 struct TextureClassesSpec {
     std::filesystem::path map;             // classification raster (PNG / TIFF), class index per pixel
     std::optional<bathymetry::Extent> extent;  // plan-view rectangle of the map; default: scene domain
+    SourceLoc extentLoc;                   // where `extent` was given (for the coverage error)
     std::vector<TextureClassSpec> classes;
     SourceLoc loc;
 };

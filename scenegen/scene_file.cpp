@@ -142,16 +142,17 @@ void parseSun(const YamlNode& n, SunSection* s) {
 }
 
 void parseSky(const YamlNode& n, SkySection* s) {
-    n.expectKeys({"model", "radiance", "hemisphere_irradiance", "sky_fraction"});
+    n.expectKeys({"model", "radiance", "hemisphere_irradiance", "sky_fraction", "sun_plane"});
     s->model = n.getEnum("model", "uniform", {"uniform", "simple"});
     if (s->model == "uniform") {
-        for (const char* k : {"hemisphere_irradiance", "sky_fraction"})
+        for (const char* k : {"hemisphere_irradiance", "sky_fraction", "sun_plane"})
             if (n.has(k)) n[k].fail("only used with model: simple");
         s->radiance = parseSpectrum(n["radiance"], 0, 1e5, "W m^-2 sr^-1 um^-1");
     } else {
         if (n.has("radiance")) n["radiance"].fail("model: simple derives the sky radiance; use hemisphere_irradiance and sky_fraction");
         s->hemisphereIrradiance = n["hemisphere_irradiance"].asDouble(0, 1e5, "W m^-2 um^-1");
         s->skyFraction = n["sky_fraction"].asDouble(0, 1);
+        s->sunPlane = n.getEnum("sun_plane", "horizontal", {"horizontal", "normal"});
     }
 }
 
@@ -223,11 +224,30 @@ ProbeSection parseProbe(const YamlNode& n) {
 }
 
 MaterialSection parseMaterial(const YamlNode& n) {
-    n.expectKeys({"name", "type", "reflectance", "solver"});
+    n.expectKeys({"name", "type", "reflectance", "solver", "refractive_index", "absorption_per_m"});
     MaterialSection m;
     m.loc = n.loc();
     m.name = n["name"].asString();
-    m.type = n.getEnum("type", "lambertian", {"lambertian", "black"});
+    m.type = n.getEnum("type", "lambertian", {"lambertian", "black", "dielectric"});
+    if (m.type == "dielectric") {
+        // A transparent solid (glass, epoxy, ice): a smooth Fresnel interface around a medium of
+        // this index and absorption. Objects use it; light refracts through it (docs/scene-format.md).
+        if (n.has("reflectance"))
+            n["reflectance"].fail("a dielectric reflects by Fresnel's law from its refractive_index; remove 'reflectance'");
+        if (n.has("solver"))
+            n["solver"].fail("a dielectric's faces are evaluated by the Fresnel solver (Table 10.4); remove 'solver'");
+        if (m.name == "water")
+            n["name"].fail("'water' is the name of the medium Littoral builds from water.optics; choose another name for "
+                           "this dielectric");
+        if (!n.has("refractive_index"))
+            n.fail("a dielectric needs 'refractive_index' (a number, or a spectrum {wavelengths_um, values} or "
+                   "{file}, in [1, 3]; e.g. 1.5 for glass, 1.55 for epoxy)");
+        m.refractiveIndex = parseSpectrum(n["refractive_index"], 1.0, 3.0, "");
+        if (auto a = n.optional("absorption_per_m")) m.absorption = parseSpectrum(*a, 0, 1000, "m^-1");
+        return m;
+    }
+    for (const char* k : {"refractive_index", "absorption_per_m"})
+        if (n.has(k)) n[k].fail(fmt::format("only a dielectric material has '{}' (this one is {})", k, m.type));
     if (auto sv = n.optional("solver")) {
         if (m.type == "black") sv->fail("a black material has no radiometry solver; remove 'solver'");
         m.solver = sv->asEnum({"classic", "generic", "surface-pm"});
@@ -527,8 +547,12 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
                                        what, sp.minWavelength(), sp.maxWavelength(), b.lo, b.hi));
     };
     if (auto ms = root.optional("materials"))
-        for (size_t i = 0; i < spec.materials.size(); ++i)
-            checkCover(spec.materials[i].reflectance, ms->at(i), "reflectance of '" + spec.materials[i].name + "'");
+        for (size_t i = 0; i < spec.materials.size(); ++i) {
+            const MaterialSection& m = spec.materials[i];
+            checkCover(m.reflectance, ms->at(i), "reflectance of '" + m.name + "'");
+            if (m.refractiveIndex) checkCover(*m.refractiveIndex, ms->at(i), "refractive index of '" + m.name + "'");
+            checkCover(m.absorption, ms->at(i), "absorption of '" + m.name + "'");
+        }
     if (auto w = root.optional("water")) {
         const auto& o = spec.waterOptics;
         std::vector<const LayerOptics*> all = {&o.iops};
@@ -622,13 +646,19 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     }
     ir->sun.halfAngle = spec.sun.halfAngle;
     if (spec.sky.model == "simple") {
-        // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi and the sun
-        // carries the rest of the horizontal irradiance, (1 - F) E_h, i.e. (1 - F) E_h / cos(zenith)
-        // on a plane normal to the beam.
+        // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi, and the sun's
+        // share (1 - F) E_h is measured on the plane `sun_plane` names:
+        //   horizontal  (1 - F) E_h on a horizontal plane: (1 - F) E_h / cos(zenith) normal to the
+        //               beam (the sky and the sun then add up to E_h on the ground);
+        //   normal      (1 - F) E_h normal to the beam: DIRSIG's Eq. 4.5 (solarIrradiance =
+        //               (1 - skyfraction) hemisphereIrradiance), (1 - F) E_h cos(zenith) on the ground.
+        // The two differ by 1 / cos(zenith): a factor of two at 60 degrees.
         ir->sky.radiance = Spectrum::constant(spec.sky.skyFraction * spec.sky.hemisphereIrradiance * kInvPi);
         const double cz = std::cos(sunZenith);
-        ir->sun.irradiance = Spectrum::constant(
-            spec.sun.enabled && cz > 1e-6 ? (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance / cz : 0.0);
+        const double share = (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance;
+        const double beam = spec.sky.sunPlane == "normal" ? share : (cz > 1e-6 ? share / cz : 0.0);
+        ir->sun.irradiance = Spectrum::constant(spec.sun.enabled ? beam : 0.0);
+        ir->metadata["sky.sun_plane"] = spec.sky.sunPlane;
         if (spec.sky.skyFraction >= 1.0) ir->sun.enabled = false;
     } else {
         ir->sky.radiance = spec.sky.radiance.value_or(Spectrum::constant(0.0));
@@ -669,6 +699,22 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     for (const auto& m : spec.materials) {
         ir::Material mt;
         mt.name = m.name;
+        if (m.type == "dielectric") {
+            // A smooth interface around a medium of the material's name: the objects that use it get
+            // that medium inside (scenegen/assemble.cpp).
+            mt.type = ir::Material::Type::Dielectric;
+            mt.origin = m.loc;
+            ir->materials.push_back(mt);
+            ir::Layer layer;
+            layer.absorption = m.absorption;
+            ir::Medium md;
+            md.name = m.name;
+            md.refractiveIndex = *m.refractiveIndex;
+            md.layers = {layer};
+            md.origin = m.loc;
+            ir->media.push_back(md);
+            continue;
+        }
         mt.type = m.type == "black" ? ir::Material::Type::Black : ir::Material::Type::Lambertian;
         if (!m.solver.empty()) mt.solver = parseName<ir::Material::Solver>(m.solver);
         mt.reflectance = m.reflectance;

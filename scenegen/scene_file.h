@@ -43,6 +43,10 @@ struct SkySection {
     std::optional<Spectrum> radiance;           // uniform
     double hemisphereIrradiance = 1.0;          // simple: E_h, W m^-2 um^-1 on a horizontal plane
     double skyFraction = 1.0;                   // simple: F_u
+    // simple: the plane on which the sun's share (1 - F_u) E_h is measured: "horizontal" (the sun
+    // puts (1 - F_u) E_h on a horizontal plane, (1 - F_u) E_h / cos(theta_s) normal to its beam) or
+    // "normal" (DIRSIG's Eq. 4.5: (1 - F_u) E_h normal to the beam).
+    std::string sunPlane = "horizontal";
 };
 
 struct SensorSection {
@@ -72,9 +76,13 @@ struct ProbeSection {
 
 struct MaterialSection {
     std::string name;
-    std::string type;    // lambertian | textured | black
+    std::string type;    // lambertian | black | dielectric
     std::string solver;  // classic | generic | surface-pm, or "" when not given
     Spectrum reflectance = Spectrum::constant(0.0);
+    // dielectric: the index of the object's inside (required) and its absorption coefficient, m^-1.
+    // The IR gets a smooth Dielectric material and a medium of the same name.
+    std::optional<Spectrum> refractiveIndex;
+    Spectrum absorption = Spectrum::constant(0.0);
     SourceLoc loc;
 };
 

@@ -76,7 +76,7 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
                               example));
     }
     n.expectKeys({"model", "wind_speed", "wind_from_deg", "waves_from_deg", "sea", "size", "centre", "spacing", "seed",
-                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth"});
+                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth", "roughness"});
     surfaces::WaveParams p;
     p.sceneKeys = true;
     p.where = n.loc();
@@ -149,6 +149,47 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
         throw InputError(k ? k->loc() : n.loc(), where + msg);
     }
     return p;
+}
+
+std::optional<ir::Material> parseSurfaceRoughness(const YamlNode& n, const surfaces::WaveParams& waves,
+                                                  const std::string& name) {
+    const auto r = n.optional("roughness");
+    if (!r) return std::nullopt;
+    r->expectKeys({"model", "wind_speed", "wind_from_deg", "sea", "gram_charlier", "shadowing"});
+    r->getEnum("model", "cox-munk", {"cox-munk"});
+    ir::Material m;
+    m.name = name;
+    m.type = ir::Material::Type::RoughDielectric;
+    m.origin = r->loc();
+    const bool windModel = surfaces::isWindDriven(waves.model);
+    // The wind: the roughness's own, or the surface's for a wind-driven model (then a wind outside
+    // Cox and Munk's range is reported at the surface's key, naming the roughness that took it).
+    if (auto w = r->optional("wind_speed")) {
+        m.windSpeed = w->asDouble();
+        checkCoxMunkWind(m.windSpeed, w->loc(), r->path() + ".wind_speed");
+    } else if (windModel) {
+        m.windSpeed = waves.windSpeed;
+        checkCoxMunkWind(m.windSpeed, n["wind_speed"].loc(),
+                         n.path() + ".wind_speed (taken by " + r->path() + ", which has no wind_speed of its own)");
+    } else {
+        r->fail(fmt::format("missing required key 'wind_speed' (m/s at 12.5 m, {} to {}): the {} surface has no wind "
+                            "to take it from",
+                            CoxMunkLimits::kMinWind, CoxMunkLimits::kMaxWind, surfaces::waveModelName(waves.model)));
+    }
+    // Compass direction the wind comes FROM (like every azimuth in a scene file); the IR holds the
+    // direction it blows toward, counter-clockwise from east.
+    if (auto d = r->optional("wind_from_deg"))
+        m.windAzimuth = surfaces::directionFromCompass(d->asDouble(0.0, 360.0, "degrees"));
+    else
+        m.windAzimuth = windModel ? waves.windDirection : surfaces::directionFromCompass(270.0);
+    m.sea = *parseName<CoxMunkSea>(r->getEnum("sea", "clean", allNames<CoxMunkSea>()));
+    m.gramCharlier = r->getBool("gram_charlier", false);
+    if (m.gramCharlier && m.sea != CoxMunkSea::Clean)
+        (*r)["gram_charlier"].fail(fmt::format("Cox and Munk published Gram-Charlier coefficients for the clean sea "
+                                               "only; this roughness has sea: {}",
+                                               nameOf(m.sea)));
+    m.shadowing = *parseName<MicrofacetShadowing>(r->getEnum("shadowing", "none", allNames<MicrofacetShadowing>()));
+    return m;
 }
 
 }  // namespace littoral::scenegen

@@ -2,6 +2,9 @@
 // The scene file's `water.surface` section: the same choices as `littoral waves`, read strictly
 // (every key checked, ranges enforced, errors at file:line:column). Keys are documented in
 // docs/waves.md, "Scene file: water.surface".
+#include <optional>
+
+#include "core/scene_ir.h"
 #include "scenegen/yaml_reader.h"
 #include "surfaces/wave_surface.h"
 
@@ -10,5 +13,14 @@ namespace littoral::scenegen {
 // Parses and validates the section (including the checks that need the whole parameter set:
 // grid memory, triangle target, resolution of the model's length scales). Throws InputError.
 surfaces::WaveParams parseWaterSurface(const YamlNode& node);
+
+// `water.surface.roughness`: roughness below the mesh's resolution (the dissertation's sub-pixel
+// capillary waves), as the Cox–Munk microfacet interface of render/rough_dielectric.h on every
+// facet of the surface. Returns the air–water interface material `name` (type RoughDielectric)
+// when the section has `roughness`, nullopt otherwise. The wind defaults to the surface's own for
+// the wind-driven models; it must lie in Cox and Munk's range (InputError at the key otherwise).
+// `surface` is the water.surface node, `waves` what parseWaterSurface made of it.
+std::optional<ir::Material> parseSurfaceRoughness(const YamlNode& surface, const surfaces::WaveParams& waves,
+                                                  const std::string& name);
 
 }  // namespace littoral::scenegen

@@ -122,6 +122,7 @@ std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
     pp.pilingBottom = -5;
     writeMesh(dir, "pier.ply", makePier(pp), &files);                  // slots: 0 deck, 1 pilings
     writeMesh(dir, "step_target.ply", makeStepTarget(2.0, 1.0), &files);  // slots: 0 bright, 1 dark
+    writeMesh(dir, "cube.ply", makeBox(1.0, 1.0, 1.0), &files);         // slot 0 (a 1 m cube, base at z = 0)
     return files;
 }
 

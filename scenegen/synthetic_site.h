@@ -31,7 +31,7 @@ struct SiteSummary {
 // Writes dir/scene.yaml, dir/classes.png, dir/textures/*.png, dir/objects/*.ply.
 SiteSummary writeSyntheticSite(const std::filesystem::path& dir, const SiteOptions& options = {});
 
-// The object files on their own (barge, boat, buoy, pier, step target), for data_synthetic/objects.
+// The object files on their own (barge, boat, buoy, pier, step target, cube), for data_synthetic/objects.
 std::vector<std::filesystem::path> writeObjectLibrary(const std::filesystem::path& dir);
 
 }  // namespace littoral::scenegen

@@ -162,8 +162,30 @@ std::vector<ir::Material> TextureClasses::materials() const {
     return out;
 }
 
+ir::Material TextureClasses::classifiedMaterial(const std::string& name) const {
+    ir::Material m;
+    m.name = name;
+    m.type = ir::Material::Type::Classified;
+    m.texture = std::string("textures/") + kClassMapFile;
+    m.textureX0 = map.extent.x0;
+    m.textureY0 = map.extent.y0;
+    m.textureX1 = map.extent.x1;
+    m.textureY1 = map.extent.y1;
+    m.classMaterials.assign(classOfValue.size(), "");
+    for (size_t v = 0; v < classOfValue.size(); ++v)
+        if (classOfValue[v] >= 0) m.classMaterials[v] = classes[static_cast<size_t>(classOfValue[v])].name;
+    return m;
+}
+
 void TextureClasses::writeTextures(const std::filesystem::path& irDir) const {
     createOutputFolder(irDir / "textures");
+    {
+        // The class map itself, 16-bit so that any class index survives.
+        OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT16);
+        spec.attribute("compression", "zip");
+        spec.attribute("DateTime", "");  // deterministic bytes
+        writeImageFile(irDir / "textures" / kClassMapFile, "tif", spec, OIIO::TypeDesc::UINT16, map.value.data());
+    }
     for (size_t k = 0; k < classes.size(); ++k) {
         if (textures[k].empty()) continue;
         const auto target = irDir / "textures" / (classes[k].name + ".tif");
@@ -185,6 +207,16 @@ TextureClasses buildTextureClasses(const TextureClassesSpec& spec, const bathyme
     TextureClasses tc;
     tc.classes = spec.classes;
     tc.map = readClassMap(spec.map, spec.extent.value_or(domain));
+    // The classes are looked up where each ray lands on the ground, which the domain bounds: the map
+    // must cover it (else the edge pixels would be stretched over the rest).
+    const bathymetry::Extent& e = tc.map.extent;
+    const double tol = 1e-9 * std::max({1.0, domain.width(), domain.height()});
+    if (e.x0 > domain.x0 + tol || e.x1 < domain.x1 - tol || e.y0 > domain.y0 + tol || e.y1 < domain.y1 - tol)
+        throw InputError(spec.extent ? spec.extentLoc : spec.loc,
+                         fmt::format("texture_classes.extent: the class map covers x [{}, {}], y [{}, {}] m, which does "
+                                     "not cover the terrain of the scene domain x [{}, {}], y [{}, {}] m; give an extent "
+                                     "that contains the domain",
+                                     e.x0, e.x1, e.y0, e.y1, domain.x0, domain.x1, domain.y0, domain.y1));
     // Every raster value must have a class (an unclassified pixel would render with no material).
     int maxIndex = 0;
     for (const auto& c : spec.classes) maxIndex = std::max(maxIndex, c.index);

@@ -62,13 +62,20 @@ struct TextureClasses {
     uint16_t slotAt(double x, double y) const;
     // IR materials, one per class, in class order; textured ones reference "textures/<name>.tif".
     std::vector<ir::Material> materials() const;
-    // Writes the textures into dir/textures/ as single-channel float TIFF (atomically).
+    // The IR material `name` of type Classified that the ground's faces carry: the class map
+    // ("textures/<kClassMapFile>", its extent) and, per raster value, the class material it names.
+    // The renderer looks the class up where each ray lands.
+    ir::Material classifiedMaterial(const std::string& name) const;
+    static constexpr const char* kClassMapFile = "class-map.tif";
+    // Writes the textures into dir/textures/ as single-channel float TIFF, and the class map as a
+    // 16-bit TIFF (atomically).
     void writeTextures(const std::filesystem::path& irDir) const;
     // Fraction of map pixels per class.
     std::vector<double> coverage() const;
 };
 
-// Reads the map and the class textures, checks every raster value has a class, remaps textures.
+// Reads the map and the class textures, checks every raster value has a class and that the map covers
+// the domain (the terrain the classes are draped on; InputError at `extent`), remaps textures.
 TextureClasses buildTextureClasses(const TextureClassesSpec& spec, const bathymetry::Extent& domain);
 
 }  // namespace littoral::scenegen

@@ -546,6 +546,12 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
         std::array<boost::optional<SM*>, 4> outputs;
         outputs[PMP::Corefinement::TM1_MINUS_TM2] = &W;
         outputs[PMP::Corefinement::INTERSECTION] = &S;
+        // S - W: the solids' surfaces outside the water, wanted for transparent objects.
+        bool wantDry = false;
+        for (const auto& s : in.solids) wantDry = wantDry || s.keepDryPart;
+        SM dry;
+        dry.add_property_map<FI, int>(kTagProperty, -1);
+        if (wantDry) outputs[PMP::Corefinement::TM2_MINUS_TM1] = &dry;
         std::array<bool, 4> ok{};
         try {
             ok = PMP::corefine_and_compute_boolean_operations(W, S, outputs,
@@ -554,9 +560,38 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
         } catch (const PMP::Corefinement::Self_intersection_exception&) {
             throw InputError("an object mesh intersects itself; run `littoral check-mesh` on the object meshes");
         }
-        if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::INTERSECTION])
+        if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::INTERSECTION] ||
+            (wantDry && !ok[PMP::Corefinement::TM2_MINUS_TM1]))
             throw InputError("subtracting the objects from the water does not give a manifold closed surface (does an "
                              "object touch the seabed, the water surface or the domain wall exactly along an edge?)");
+        if (wantDry) {
+            // Keep each wanted solid's own faces (its tags) from S - W; the faces W contributed there
+            // (the water surface and seabed inside the solid) are not surfaces of the object.
+            TriMesh all = fromSurfaceMesh(dry);
+            weldVertices(all, kWeldEps);
+            res.dryParts.assign(in.solids.size(), TriMesh{});
+            for (size_t k = 0; k < in.solids.size(); ++k) {
+                if (!in.solids[k].keepDryPart) continue;
+                TriMesh part;
+                std::vector<uint32_t> remap(all.positions.size(), UINT32_MAX);
+                for (size_t f = 0; f < all.triangles.size(); ++f) {
+                    const uint16_t tag = all.faceMaterial[f];
+                    if (tag < tagRange[k].first || tag >= tagRange[k].second) continue;
+                    std::array<uint32_t, 3> t{};
+                    for (int c = 0; c < 3; ++c) {
+                        uint32_t& r = remap[all.triangles[f][c]];
+                        if (r == UINT32_MAX) {
+                            r = static_cast<uint32_t>(part.positions.size());
+                            part.positions.push_back(all.positions[all.triangles[f][c]]);
+                        }
+                        t[c] = r;
+                    }
+                    part.triangles.push_back(t);
+                    part.faceMaterial.push_back(static_cast<uint16_t>(tag - tagRange[k].first));
+                }
+                res.dryParts[k] = std::move(part);
+            }
+        }
         // Displacement per object: volumes of the components of W n S (divergence theorem per face).
         TriMesh removed = fromSurfaceMesh(S);
         weldVertices(removed, kWeldEps);

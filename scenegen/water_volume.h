@@ -38,6 +38,9 @@ struct PlacedSolid {
     std::string name;
     TriMesh mesh;
     std::vector<std::string> materials;
+    // Also return the part of the solid's surface outside the water (WaterVolumeResult::dryParts):
+    // for transparent objects, whose wet faces become the water's interface with them.
+    bool keepDryPart = false;
 };
 
 struct WaterVolumeInput {
@@ -61,6 +64,10 @@ struct WaterVolumeResult {
     double prismVolume = 0;              // m^3, P: water column over the whole domain down to z_lo
     double waterVolumeBeforeSolids = 0;  // m^3, P - T
     std::vector<double> displaced;       // m^3 of water removed by each solid (same order as input)
+    // Per solid with keepDryPart: the faces of its surface that do not touch the water (S - W, the
+    // solid's own faces only; slots index its materials), split along the waterline exactly where
+    // the water mesh's faces against it end, so the two meet edge to edge. Empty otherwise.
+    std::vector<TriMesh> dryParts;
     double zLo = 0;                      // m, floor of the prism
     // Face counts by role in the final water mesh.
     size_t interfaceFaces = 0, seabedFaces = 0, wallFaces = 0, objectFaces = 0;

@@ -256,7 +256,24 @@ ir::SceneIR sampleIR() {
     tex.textureY0 = -30;
     tex.textureX1 = 45;
     tex.textureY1 = 30;
-    s.materials = {sand, iface, tex};
+    // The rough interface with every setting, and a class map naming sand and grass per value.
+    ir::Material rough, classes;
+    rough.name = "rough-sea";
+    rough.type = ir::Material::Type::RoughDielectric;
+    rough.windSpeed = 6.5;
+    rough.windAzimuth = 0.7;
+    rough.sea = CoxMunkSea::Slick;
+    rough.gramCharlier = false;
+    rough.shadowing = MicrofacetShadowing::SmithSeparable;
+    classes.name = "ground";
+    classes.type = ir::Material::Type::Classified;
+    classes.texture = "textures/class-map.tif";
+    classes.textureX0 = -45.5;
+    classes.textureY0 = -30;
+    classes.textureX1 = 45;
+    classes.textureY1 = 30.25;
+    classes.classMaterials = {"sand", "", "grass"};
+    s.materials = {sand, iface, tex, rough, classes};
     ir::Mesh m;
     m.name = "water";
     m.file = "meshes/water.ply";
@@ -296,6 +313,16 @@ TEST(SceneIR, RoundTripIsByteIdentical) {
     EXPECT_EQ(r.sun.irradiance.values(), s.sun.irradiance.values());
     EXPECT_EQ(r.meshes[0].data.positions, s.meshes[0].data.positions);
     EXPECT_EQ(r.materials[2].texture, "textures/grass.exr");
+    EXPECT_EQ(r.materials[3].type, ir::Material::Type::RoughDielectric);
+    EXPECT_EQ(r.materials[3].windSpeed, 6.5);
+    EXPECT_EQ(r.materials[3].windAzimuth, 0.7);
+    EXPECT_EQ(r.materials[3].sea, CoxMunkSea::Slick);
+    EXPECT_EQ(r.materials[3].shadowing, MicrofacetShadowing::SmithSeparable);
+    EXPECT_EQ(r.materials[4].type, ir::Material::Type::Classified);
+    EXPECT_EQ(r.materials[4].texture, "textures/class-map.tif");
+    EXPECT_EQ(r.materials[4].textureX0, -45.5);
+    EXPECT_EQ(r.materials[4].textureY1, 30.25);
+    EXPECT_EQ(r.materials[4].classMaterials, (std::vector<std::string>{"sand", "", "grass"}));
     EXPECT_EQ(r.render.estimator, ir::Estimator::Path);
     EXPECT_EQ(r.render.probeSamples, 1 << 20);
     EXPECT_FALSE(r.render.maxBounces.has_value());  // unset stays unset

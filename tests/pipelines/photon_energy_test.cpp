@@ -19,6 +19,7 @@
 #include "render/photon_pass.h"
 #include "render/scene.h"
 #include "scenegen/assemble.h"
+#include "tests/support/glint.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -94,4 +95,38 @@ TEST(PhotonEnergy, SinusoidOnlyRedirectsSunlight) {
         "{model: sinusoid, amplitude: 0.4, wavelength: 5.0, size: [20, 20], centre: [0, 0], spacing: 0.1}", "sinusoid");
     EXPECT_NEAR(E / flatValue(), 1.0, 0.02);
     std::printf("[ waves energy ] sinusoid 0.4 m / 5 m: %.6f = %.4f x flat, %zu photons\n", E, E / flatValue(), n);
+}
+
+// A rough sea from the scene file (water.surface.roughness: Cox-Munk clean sea at 5 m/s, wind from
+// the west) on flat facets: the photon pass samples the microfacet BxDF, so the floor receives
+// E cos(theta_s) T, with T the transmitted fraction of the model (G = 1, digest section 1.2 with
+// Cox and Munk's clean-sea fit): light of unit flux on the horizontal meets facets of slope
+// (zx, zy) in proportion p_s max(0, i.m) / (m_z cos theta_s) and each transmits 1 - r_f(i.m),
+// all of it downward at 30 deg. By a midpoint rule over +-8 standard deviations of the slopes
+// (independent of the renderer's BxDF code); tolerance 4 / sqrt(N) for N photons on the floor.
+TEST(PhotonEnergy, RoughSeaTransmitsTheMicrofacetFraction) {
+    const auto [E, n] = floorIrradiance("{model: flat, size: [20, 20], roughness: {wind_speed: 5, wind_from_deg: 270}}",
+                                        "rough");
+    namespace glint = littoral::testing_support::glint;
+    const double U = 5.0, su2 = 3.16e-3 * U, sc2 = 0.003 + 1.92e-3 * U;  // clean sea; wind toward +x
+    const glint::SlopeVariances v{su2, sc2};
+    // Sun at zenith 30 deg, compass azimuth 200: counter-clockwise from east, 90 - 200 = -110 deg.
+    const double th = deg2rad(30), ph = deg2rad(-110);
+    const double ix = std::sin(th) * std::cos(ph), iy = std::sin(th) * std::sin(ph), iz = std::cos(th);
+    const int m = 1000;
+    const double su = std::sqrt(su2), sc = std::sqrt(sc2);
+    double T = 0;
+    for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+            const double zx = (-8 + 16 * (a + 0.5) / m) * su, zy = (-8 + 16 * (b + 0.5) / m) * sc;
+            const double norm = std::sqrt(1 + zx * zx + zy * zy);
+            const double im = (-zx * ix - zy * iy + iz) / norm, mz = 1 / norm;
+            if (im <= 0) continue;
+            T += glint::slopePdf(v, zx, zy) * im / (mz * iz) * (1 - glint::fresnelSinTan(im, 1.0, 1.34)) *
+                 (16 * su / m) * (16 * sc / m);
+        }
+    const double expected = std::cos(th) * T;
+    EXPECT_NEAR(E, expected, 4 * expected / std::sqrt(static_cast<double>(n)));
+    std::printf("[ waves energy ] rough sea 5 m/s: %.6f (E cos T = %.6f, T = %.6f; flat %.6f), %zu photons\n", E,
+                expected, T, flatValue(), n);
 }

@@ -92,7 +92,8 @@ TEST(SyntheticSite, BuildsAndPassesEveryValidityCheck) {
             EXPECT_NEAR(c["mean_after"].get<double>(), 1.0, 1e-4) << name;
         }
     }
-    // The water mesh carries the interface, seabed classes, object contacts and domain walls.
+    // The water mesh carries the interface, the classified seabed (its class looked up per hit point
+    // in the class map), object contacts and domain walls.
     const ir::Mesh* w = sc.ir.findMesh("water");
     ASSERT_NE(w, nullptr);
     EXPECT_TRUE(w->closed);
@@ -100,7 +101,13 @@ TEST(SyntheticSite, BuildsAndPassesEveryValidityCheck) {
     auto has = [&](const std::string& m) { return std::find(w->materials.begin(), w->materials.end(), m) != w->materials.end(); };
     EXPECT_TRUE(has("air-water-interface"));
     EXPECT_TRUE(has("domain-wall"));
-    EXPECT_TRUE(has("wet-sand"));
+    EXPECT_TRUE(has("texture-classes"));
+    const ir::Material* classified = sc.ir.findMaterial("texture-classes");
+    ASSERT_NE(classified, nullptr);
+    EXPECT_EQ(classified->type, ir::Material::Type::Classified);
+    EXPECT_NE(std::find(classified->classMaterials.begin(), classified->classMaterials.end(), "wet-sand"),
+              classified->classMaterials.end());
+    EXPECT_TRUE(fs::exists(out / "textures" / "class-map.tif"));
     EXPECT_TRUE(has("target-bright"));
     // Written IR reads back, and validity.json is there.
     EXPECT_TRUE(fs::exists(out / "validity.json"));
