@@ -38,10 +38,7 @@ render:
 )";
 
 std::string replaceLine(const std::string& text, const std::string& from, const std::string& to) {
-    const auto pos = text.find(from);
-    EXPECT_NE(pos, std::string::npos) << from;
-    std::string s = text;
-    return s.replace(pos, from.size(), to);
+    return replacedOnce(text, from, to);
 }
 
 struct Case {
@@ -51,20 +48,7 @@ struct Case {
     const char* message;  // part of the message
 };
 
-void expectRefused(const Case& c) {
-    const fs::path dir = scratchDir("render_settings_cli", c.name);
-    const fs::path scene = writeTextFile(dir, std::string(c.name) + ".yaml", c.text);
-    for (const std::string cmd : {"check-scene", "build", "run"}) {
-        const fs::path out = dir / ("out-" + cmd);
-        const std::string args = cmd == "check-scene" ? scene.string() : scene.string() + " --out " + out.string();
-        const CommandResult r = runLittoral("--quiet " + cmd + " " + args);
-        EXPECT_EQ(r.status, 1) << c.name << " " << cmd << ": " << r.output;
-        EXPECT_NE(r.output.find(scene.filename().string() + c.where + ": error: "), std::string::npos)
-            << c.name << " " << cmd << ": " << r.output;
-        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.name << " " << cmd << ": " << r.output;
-        EXPECT_FALSE(fs::exists(out)) << c.name << " " << cmd << ": output left behind";
-    }
-}
+void expectRefused(const Case& c) { expectSceneRefused("render_settings_cli", c.name, c.text, c.where, c.message); }
 
 }  // namespace
 

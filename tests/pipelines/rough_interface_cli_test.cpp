@@ -41,25 +41,11 @@ render:
 )";
 
 std::string replaceText(const std::string& text, const std::string& from, const std::string& to) {
-    const auto pos = text.find(from);
-    EXPECT_NE(pos, std::string::npos) << from;
-    std::string s = text;
-    return s.replace(pos, from.size(), to);
+    return replacedOnce(text, from, to);
 }
 
 void expectRefused(const char* name, const std::string& text, const char* where, const char* message) {
-    const fs::path dir = scratchDir("rough_interface_cli", name);
-    const fs::path scene = writeTextFile(dir, std::string(name) + ".yaml", text);
-    for (const std::string cmd : {"check-scene", "build", "run"}) {
-        const fs::path out = dir / ("out-" + cmd);
-        const std::string args = cmd == "check-scene" ? scene.string() : scene.string() + " --out " + out.string();
-        const CommandResult r = runLittoral("--quiet " + cmd + " " + args);
-        EXPECT_EQ(r.status, 1) << name << " " << cmd << ": " << r.output;
-        EXPECT_NE(r.output.find(scene.filename().string() + where + ": error: "), std::string::npos)
-            << name << " " << cmd << ": " << r.output;
-        EXPECT_NE(r.output.find(message), std::string::npos) << name << " " << cmd << ": " << r.output;
-        EXPECT_FALSE(fs::exists(out)) << name << " " << cmd << ": output left behind";
-    }
+    expectSceneRefused("rough_interface_cli", name, text, where, message);
 }
 
 }  // namespace

@@ -58,4 +58,34 @@ inline CommandResult runLittoral(const std::string& args) {
     return r;
 }
 
+// `text` with the first occurrence of `from` replaced by `to` (a failed expectation if absent).
+// For gtest tests only (uses EXPECT_*; include <gtest/gtest.h> first).
+#ifdef GTEST_API_
+inline std::string replacedOnce(std::string text, const std::string& from, const std::string& to) {
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    if (pos != std::string::npos) text.replace(pos, from.size(), to);
+    return text;
+}
+
+// Writes scene file `text` as <group>/<name>/<name>.yaml and checks that `check-scene`, `build` and
+// `run` all refuse it: exit 1, one error located at `where` ("file:line:column" suffix, e.g.
+// ":12:37") whose text contains `message`, and no output folder left behind.
+inline void expectSceneRefused(const std::string& group, const std::string& name, const std::string& text,
+                               const std::string& where, const std::string& message) {
+    const std::filesystem::path dir = scratchDir(group, name);
+    const std::filesystem::path scene = writeTextFile(dir, name + ".yaml", text);
+    for (const std::string cmd : {"check-scene", "build", "run"}) {
+        const std::filesystem::path out = dir / ("out-" + cmd);
+        const std::string args = cmd == "check-scene" ? scene.string() : scene.string() + " --out " + out.string();
+        const CommandResult r = runLittoral("--quiet " + cmd + " " + args);
+        EXPECT_EQ(r.status, 1) << name << " " << cmd << ": " << r.output;
+        EXPECT_NE(r.output.find(scene.filename().string() + where + ": error: "), std::string::npos)
+            << name << " " << cmd << ": " << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << name << " " << cmd << ": " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << name << " " << cmd << ": output left behind";
+    }
+}
+#endif
+
 }  // namespace littoral::testing_support
