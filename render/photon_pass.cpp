@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
-#include <cstdio>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -308,18 +306,6 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     };
     scale(maps.surface, maps.emittedSurface);
     scale(maps.volume, maps.emittedVolume);
-    if (std::getenv("LITTORAL_DEBUG_SLAB")) {  // TEMP
-        double sum = 0; size_t cnt = 0, outside = 0;
-        for (size_t i = 0; i < maps.volume.size(); ++i) {
-            const double z = maps.volume.position(i).z;
-            if (z > -1.5 && z < -0.5) sum += maps.volume.power(i, 0) * maps.volume.fluxScale[0], ++cnt;
-            const Point3 q = maps.volume.position(i);
-            if (q.x < src.x0 - 1e-4 || q.x > src.x0 + src.lx + 1e-4 || q.y < src.y0 - 1e-4 || q.y > src.y0 + src.ly + 1e-4) ++outside;
-        }
-        fprintf(stderr, "DEBUG outside %zu of %zu\n", outside, maps.volume.size());
-        fprintf(stderr, "DEBUG slab photons %zu sum %g per m3 %g emitted %llu area %g\n", cnt, sum, sum / (src.area * 1.0),
-                (unsigned long long)maps.emittedVolume, src.area);
-    }
     statCounter("photons emitted").add(static_cast<int64_t>(maps.emitted));
     statCounter("photons stored (surface)").add(static_cast<int64_t>(maps.surface.size()));
     statCounter("photons stored (volume)").add(static_cast<int64_t>(maps.volume.size()));
