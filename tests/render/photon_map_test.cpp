@@ -126,14 +126,6 @@ TEST(SurfacePM, BoundaryCompensationAtAnEdge) {
                 pred * covered);
 }
 
-}  // namespace
-}  // namespace littoral::render
-
-namespace littoral::render {
-namespace {
-
-using namespace testing;
-using M = ir::Material;
 using PT = ir::PhaseFunction::Type;
 
 // Mean of the film over the pixels (i, j) for which keep(i, j).
@@ -243,14 +235,6 @@ TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
                 seOpenPm);
 }
 
-}  // namespace
-}  // namespace littoral::render
-
-namespace littoral::render {
-namespace {
-
-using namespace testing;
-using M = ir::Material;
 
 // Sunlight through a tilted flat facet (issue 9). The water's top face is a plane tilted by
 // beta = 12 deg about the y axis; a black mask with a 0.4 m square hole lies above it; the sun is at
@@ -338,14 +322,6 @@ TEST(PhotonMapping, TiltedFacetRefractsTheSunWhereSnellSays) {
                 T * hole * hole / (wx * hole));
 }
 
-}  // namespace
-}  // namespace littoral::render
-
-namespace littoral::render {
-namespace {
-
-using namespace testing;
-using M = ir::Material;
 
 // Progressive photon mapping makes the density-estimation bias vanish (issue 9). A white floor
 // under a uniform sky beside a long black wall of height H = 1 m. The photon pass emits over the
