@@ -3,6 +3,8 @@
 // reflectance of a smooth dielectric boundary. Conventions are stated in render/bxdf.h; this
 // header exists so that BxDF implementations in their own files (render/rough_dielectric.h) and
 // the BxDF variant in render/bxdf.h can both use them.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "core/vec.h"
@@ -35,6 +37,15 @@ struct BSDFSample {
 // tan^2(ti - tr)/tan^2(ti + tr)] with Snell's law (Eq. 4.1) n1 sin ti = n2 sin tr, and stays
 // finite at normal incidence (Eq. 4.3). Returns 1 beyond the critical angle (total internal
 // reflection). T_f = 1 - r_f: the interface absorbs nothing.
-double fresnelDielectric(double cosI, double n1, double n2);
+inline double fresnelDielectric(double cosI, double n1, double n2) {
+    cosI = std::clamp(cosI, 0.0, 1.0);
+    const double eta = n1 / n2;
+    const double sin2T = eta * eta * std::max(0.0, 1.0 - cosI * cosI);  // Snell, Eq. 4.1
+    if (sin2T >= 1.0) return 1.0;                                       // total internal reflection
+    const double cosT = std::sqrt(1.0 - sin2T);
+    const double rs = (n1 * cosI - n2 * cosT) / (n1 * cosI + n2 * cosT);
+    const double rp = (n2 * cosI - n1 * cosT) / (n2 * cosI + n1 * cosT);
+    return 0.5 * (rs * rs + rp * rp);
+}
 
 }  // namespace littoral::render

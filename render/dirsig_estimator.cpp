@@ -104,6 +104,8 @@ private:
     // SurfacePM: irradiance at a diffuse hit from the surface map (n: the normal on the side seen).
     Spec surfaceIrradiance(const SurfaceHit& h, const Normal3& n) const;
     Spec trace(const Ray& ray, const PathState& st, RandomStream& rng) const;
+    // trace() once the ray's closest hit is known (found: whether it hit; h: the hit).
+    Spec traceHit(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st, RandomStream& rng) const;
     Spec shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                         RandomStream& rng) const;
     // Rough (Cox–Munk) interfaces under the Fresnel solver: sun next-event estimation with MIS and
@@ -261,8 +263,14 @@ Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) c
 
 Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& rng) const {
     SurfaceHit h;
+    const bool found = scene_.geometry().intersect(ray, &h);
+    return traceHit(ray, found, h, st, rng);
+}
+
+Spec DirsigEstimator::traceHit(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st,
+                               RandomStream& rng) const {
     const Medium& medium = scene_.media()[st.medium];
-    if (!scene_.geometry().intersect(ray, &h)) {
+    if (!found) {
         Spec L = mediumPM(st.medium) ? volumeInScatter(ray, ir::kInfinity, st.medium, {0, 0, 0}, st.startNormal)
                                      : Spec(group_.count);
         // An infinitely long path through an attenuating medium carries nothing more.
@@ -281,6 +289,9 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
         s2.startNormal = Normal3{0, 0, 0};
         return L + trace(*next, s2, rng) * transmittance(ray, h.t, st.medium);
     }
+    // A Classic sky ray ends at an opaque surface with nothing (unless the medium it crossed
+    // in-scatters): settled before any BxDF or path state is built (a third of a Classic frame's rays).
+    if (st.skyOnly && !m.isInterface() && !m.isRough() && !mediumPM(st.medium)) return Spec(group_.count);
     // The segment's medium: an interface knows its own sides (trusted over the carried medium);
     // an opaque surface is reached through whatever medium the ray carries.
     const BxDF bxdf = scene_.bxdf(h, group_);
@@ -292,8 +303,12 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     if (bxdf.isDelta()) Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
     else if (bxdf.isGlossy()) Lsurf = shadeRoughInterface(ray, h, bxdf, s2, rng);
     else if (!st.skyOnly) Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
-    const Spec inScatter =
-        mediumPM(segMedium) ? volumeInScatter(ray, h.t, segMedium, h.ng, st.startNormal) : Spec(group_.count);
+    if (!mediumPM(segMedium)) {
+        // No in-scatter: the surface's radiance through the segment (nothing to do in the air).
+        if (!scene_.media()[segMedium].attenuating() || Lsurf.isBlack()) return Lsurf;
+        return Lsurf * transmittance(ray, h.t, segMedium);
+    }
+    const Spec inScatter = volumeInScatter(ray, h.t, segMedium, h.ng, st.startNormal);
     if (Lsurf.isBlack()) return inScatter;
     return Lsurf * transmittance(ray, h.t, segMedium) + inScatter;
 }
@@ -402,12 +417,21 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     const Vec3 wo = frame.toLocal(woWorld);
     Spec sum(nb);
     if (classic) {
-        // Fixed stratified skydome: one jittered ray per equal-projected-solid-angle quad.
+        // Fixed stratified skydome: one jittered ray per equal-projected-solid-angle quad. The rays
+        // share their origin, so their first hits are traced together as packets (8 at a time).
         const StratifiedLayout layout(count);
-        for (int k = 0; k < count; ++k) {
-            const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
-            const Vec3 w = frame.toWorld(sampleCosineHemisphere(u.x, u.y));
-            sum += trace(spawnRay(h.p, h.ng, w), next, rng);
+        constexpr int kBatch = 32;
+        Ray rays[kBatch];
+        SurfaceHit hits[kBatch];
+        bool found[kBatch];
+        for (int k0 = 0; k0 < count; k0 += kBatch) {
+            const int m = std::min(kBatch, count - k0);
+            for (int k = 0; k < m; ++k) {
+                const Vec2 u = layout.point(k0 + k, rng.uniform(), rng.uniform());
+                rays[k] = spawnRay(h.p, h.ng, frame.toWorld(sampleCosineHemisphere(u.x, u.y)));
+            }
+            scene_.geometry().intersectCoherent(rays, m, hits, found);
+            for (int k = 0; k < m; ++k) sum += traceHit(rays[k], found[k], hits[k], next, rng);
         }
     } else {
         for (int k = 0; k < count; ++k) {

@@ -29,9 +29,6 @@ struct RayCounts {
 thread_local RayCounts tlsCounts;
 thread_local RayLog* tlsLog = nullptr;
 
-// 2^-18: see the header comment for the derivation (64 float ulp of the coordinate scale).
-constexpr double kOffsetRelative = 0x1.0p-18;
-
 }  // namespace
 
 void flushRayStats() {
@@ -43,20 +40,6 @@ void flushRayStats() {
     if (c.hits) hits.add(c.hits);
     if (c.shadow) shadow.add(c.shadow);
     c = RayCounts{};
-}
-
-double offsetDistance(const Point3& p) {
-    const double m = std::max({1.0, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    return kOffsetRelative * m;
-}
-
-Ray spawnRay(const Point3& p, const Normal3& ng, const Vec3& dir) {
-    const double eps = offsetDistance(p);
-    Ray r;
-    r.o = p + ng * (dot(dir, ng) >= 0 ? eps : -eps);
-    r.d = dir;
-    r.tMin = 0.0;
-    return r;
 }
 
 Ray spawnRayTo(const Point3& p, const Normal3& ng, const Point3& q) {
@@ -138,6 +121,49 @@ struct EmbreeScene::Impl {
         rr.mask = 0xFFFFFFFFu;
         rr.id = 0;
         rr.flags = 0;
+    }
+
+    // The hit of ray r on primitive primID of Embree geometry geomID (instance instID, or
+    // RTC_INVALID_GEOMETRY_ID), rebuilt in double precision: the double ray is intersected with the
+    // triangle's plane dot(ng, x) = offset, precomputed per face for direct placements; for an
+    // instance the plane is rebuilt from the transformed vertices (valid for any linear part, not
+    // only rotations). Near-grazing rays (|cos| < 1e-9) keep Embree's single-precision distance.
+    void reconstruct(const Ray& r, unsigned geomID, unsigned instID, unsigned primID, float tfar,
+                     SurfaceHit* hit) const {
+        int inst = -1, mesh;
+        if (instID != RTC_INVALID_GEOMETRY_ID) {
+            inst = geomToInstance[instID];
+            mesh = instances[inst].mesh;
+        } else {
+            mesh = geomToMesh[geomID];
+        }
+        const MeshRef& mr = meshes[mesh];
+        const TriMesh& m = *mr.mesh;
+        const uint32_t f = primID;
+        Vec3 ng = mr.normal[f];
+        double offset = mr.offset[f];
+        if (inst >= 0) {
+            const auto& tri = m.triangles[f];
+            const Point3 v0 = worldVertex(inst, m, tri[0]);
+            const Vec3 n = cross(worldVertex(inst, m, tri[1]) - v0, worldVertex(inst, m, tri[2]) - v0);
+            const double len = length(n);
+            ng = len > 0 ? n / len : Vec3{0, 0, 1};
+            offset = dot(ng, v0);
+        }
+        const double denom = dot(r.d, ng);
+        double t = static_cast<double>(tfar);
+        if (std::abs(denom) > 1e-9) {
+            const double tp = (offset - dot(ng, r.o)) / denom;
+            if (std::isfinite(tp) && tp >= 0) t = tp;
+        }
+        hit->t = t;
+        hit->p = r.at(t);
+        hit->ng = ng;
+        hit->mesh = mesh;
+        hit->instance = inst;
+        hit->face = f;
+        hit->slot = m.materialOf(f);
+        hit->front = denom < 0;
     }
 
     Point3 worldVertex(int inst, const TriMesh& m, uint32_t vi) const {
@@ -254,46 +280,48 @@ bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
     rtcIntersect1(s.scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     ++tlsCounts.hits;
-
-    int inst = -1, mesh;
-    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-        inst = s.geomToInstance[rh.hit.instID[0]];
-        mesh = s.instances[inst].mesh;
-    } else {
-        mesh = s.geomToMesh[rh.hit.geomID];
-    }
-    const Impl::MeshRef& mr = s.meshes[mesh];
-    const TriMesh& m = *mr.mesh;
-    const uint32_t f = rh.hit.primID;
-    // Double-precision reconstruction: intersect the double ray with the triangle's plane
-    // dot(ng, x) = offset, precomputed per face for direct placements; for an instance the
-    // plane is rebuilt from the transformed vertices (valid for any linear part, not only
-    // rotations). Near-grazing rays (|cos| < 1e-9) keep Embree's single-precision distance.
-    Vec3 ng = mr.normal[f];
-    double offset = mr.offset[f];
-    if (inst >= 0) {
-        const auto& tri = m.triangles[f];
-        const Point3 v0 = s.worldVertex(inst, m, tri[0]);
-        const Vec3 n = cross(s.worldVertex(inst, m, tri[1]) - v0, s.worldVertex(inst, m, tri[2]) - v0);
-        const double len = length(n);
-        ng = len > 0 ? n / len : Vec3{0, 0, 1};
-        offset = dot(ng, v0);
-    }
-    const double denom = dot(r.d, ng);
-    double t = static_cast<double>(rh.ray.tfar);
-    if (std::abs(denom) > 1e-9) {
-        const double tp = (offset - dot(ng, r.o)) / denom;
-        if (std::isfinite(tp) && tp >= 0) t = tp;
-    }
-    hit->t = t;
-    hit->p = r.at(t);
-    hit->ng = ng;
-    hit->mesh = mesh;
-    hit->instance = inst;
-    hit->face = f;
-    hit->slot = m.materialOf(f);
-    hit->front = denom < 0;
+    s.reconstruct(r, rh.hit.geomID, rh.hit.instID[0], rh.hit.primID, rh.ray.tfar, hit);
     return true;
+}
+
+void EmbreeScene::intersectCoherent(const Ray* rays, int n, SurfaceHit* hits, bool* found) const {
+    const Impl& s = *impl_;
+    tlsCounts.cast += n;
+    if (tlsLog) [[unlikely]] tlsLog->closest.insert(tlsLog->closest.end(), rays, rays + n);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    for (int base = 0; base < n; base += 8) {
+        const int m = std::min(8, n - base);
+        RTCRayHit8 rh;  // RTC_ALIGN(32) in Embree's header
+        alignas(32) int valid[8];
+        for (int k = 0; k < 8; ++k) {
+            valid[k] = k < m ? -1 : 0;
+            const Ray& r = rays[base + std::min(k, m - 1)];  // inactive lanes: a copy of a valid ray
+            rh.ray.org_x[k] = static_cast<float>(r.o.x);
+            rh.ray.org_y[k] = static_cast<float>(r.o.y);
+            rh.ray.org_z[k] = static_cast<float>(r.o.z);
+            rh.ray.dir_x[k] = static_cast<float>(r.d.x);
+            rh.ray.dir_y[k] = static_cast<float>(r.d.y);
+            rh.ray.dir_z[k] = static_cast<float>(r.d.z);
+            rh.ray.tnear[k] = static_cast<float>(r.tMin);
+            rh.ray.tfar[k] = std::isfinite(r.tMax) ? static_cast<float>(r.tMax) : std::numeric_limits<float>::infinity();
+            rh.ray.time[k] = 0.0f;
+            rh.ray.mask[k] = 0xFFFFFFFFu;
+            rh.ray.id[k] = 0;
+            rh.ray.flags[k] = 0;
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect8(valid, s.scene, &ctx, &rh);
+        for (int k = 0; k < m; ++k) {
+            const int i = base + k;
+            found[i] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+            if (!found[i]) continue;
+            ++tlsCounts.hits;
+            s.reconstruct(rays[i], rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k], rh.ray.tfar[k], &hits[i]);
+        }
+    }
 }
 
 bool EmbreeScene::occluded(const Ray& r) const {

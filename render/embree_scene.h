@@ -12,6 +12,8 @@
 // plane to within a few ulp of the largest coordinate involved (2^-24 relative per ulp), so
 // this margin (64 ulp) keeps spawned rays from re-hitting their own triangle while staying far
 // below any scene feature (0.4 mm at 100 m from the origin).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -47,10 +49,22 @@ struct RayLog {
 void setThreadRayLog(RayLog* log);
 
 // Distance by which spawned rays are pushed off their surface (see the header comment).
-double offsetDistance(const Point3& p);
+// 2^-18: 64 float ulp of the coordinate scale.
+inline constexpr double kOffsetRelative = 0x1.0p-18;
+inline double offsetDistance(const Point3& p) {
+    const double m = std::max({1.0, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return kOffsetRelative * m;
+}
 // A ray leaving the surface point p (geometric normal ng) in unit direction dir: the origin is
-// offset along +-ng toward the side dir points into; tMin = 0.
-Ray spawnRay(const Point3& p, const Normal3& ng, const Vec3& dir);
+// offset along +-ng toward the side dir points into; tMin = 0. (Inline: called once per ray.)
+inline Ray spawnRay(const Point3& p, const Normal3& ng, const Vec3& dir) {
+    const double eps = offsetDistance(p);
+    Ray r;
+    r.o = p + ng * (dot(dir, ng) >= 0 ? eps : -eps);
+    r.d = dir;
+    r.tMin = 0.0;
+    return r;
+}
 // A ray from surface point p toward target point q that stops just short of q (shadow rays).
 Ray spawnRayTo(const Point3& p, const Normal3& ng, const Point3& q);
 
@@ -66,6 +80,10 @@ public:
     // Closest hit with t in [r.tMin, r.tMax]; r.d must be unit length. Counts "rays cast" and
     // "ray hits" (see flushRayStats).
     bool intersect(const Ray& r, SurfaceHit* hit) const;
+    // Closest hits of rays[0..n) (any n), traced as Embree packets of 8: for coherent rays such as
+    // the hemisphere rays leaving one diffuse vertex. found[i] tells whether rays[i] hit; hits[i]
+    // is then the same hit intersect() gives. Counts like intersect().
+    void intersectCoherent(const Ray* rays, int n, SurfaceHit* hits, bool* found) const;
     // Any hit with t in [r.tMin, r.tMax]. Counts "shadow rays".
     bool occluded(const Ray& r) const;
 

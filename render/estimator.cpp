@@ -212,6 +212,7 @@ Estimator::Estimator(const Scene& scene, const RenderConfig& config, BandGroup g
     : scene_(scene), config_(config), group_(group) {
     LITTORAL_CHECK(group.count >= 1 && group.count <= kMaxGroupBands);
     LITTORAL_CHECK(group.begin >= 0 && group.begin + group.count <= scene.bandCount());
+    skyRadiance_ = bandValues(scene.sky().radiance);
     LITTORAL_CHECK_EQ(config.solvers.size(), scene.materials().size());
     // A medium under a rough interface: the inside medium of a mesh that uses a rough material, whose
     // outside is a non-attenuating medium (the air the sun shines through). Its sun estimates use
@@ -285,8 +286,7 @@ Spec Estimator::bandValues(const std::vector<double>& v) const {
 }
 
 Spec Estimator::environment(const Vec3& d, bool withSun) const {
-    Spec L(group_.count);
-    if (d.z > 0) L = bandValues(scene_.sky().radiance);
+    Spec L = d.z > 0 ? skyRadiance_ : Spec(group_.count);
     const SunSource& sun = scene_.sun();
     if (withSun && sun.inDisc(d)) {
         // Uniform disc radiance L_sun = E_sun / Omega_sun (exact cone solid angle).

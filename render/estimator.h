@@ -223,6 +223,7 @@ protected:
     const Scene& scene_;
     const RenderConfig& config_;
     BandGroup group_;
+    Spec skyRadiance_;  // the sky's radiance in this group's bands (environment() above the horizon)
 
 private:
     // Is medium m one the sun shines through (index 1, nothing attenuates: the air)?

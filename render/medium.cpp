@@ -155,8 +155,7 @@ Spec Medium::opticalDepth(const Ray& r, double t, BandGroup g, bool effective) c
 
 Spec Medium::transmittance(const Ray& r, double t, BandGroup g) const { return transmittance(r, t, g, false); }
 
-Spec Medium::transmittance(const Ray& r, double t, BandGroup g, bool effective) const {
-    if (!attenuating_) return Spec(g.count, 1.0);
+Spec Medium::attenuatedTransmittance(const Ray& r, double t, BandGroup g, bool effective) const {
     Spec tau = opticalDepth(r, t, g, effective);
     for (int i = 0; i < g.count; ++i) tau[i] = std::exp(-tau[i]);
     return tau;

@@ -79,7 +79,11 @@ public:
     // Optical depth Int_0^t c ds per band (infinite where c > 0 and t is). With `effective`, the
     // effective extinction a + b (1 - f_cone) (small-angle scattering counted as unscattered).
     Spec opticalDepth(const Ray& r, double t, BandGroup g, bool effective = false) const;
-    Spec transmittance(const Ray& r, double t, BandGroup g, bool effective) const;
+    Spec transmittance(const Ray& r, double t, BandGroup g, bool effective) const {
+        if (!attenuating_) return Spec(g.count, 1.0);  // inline: the air's segments are most rays
+        return attenuatedTransmittance(r, t, g, effective);
+    }
+    Spec attenuatedTransmittance(const Ray& r, double t, BandGroup g, bool effective) const;
     // Free-flight sampling along [0, tMax) (tMax may be infinite); uBand picks the hero band.
     FreeFlight sampleFreeFlight(const Ray& r, double tMax, BandGroup g, double uBand, double u) const;
 

@@ -271,17 +271,13 @@ RoughDielectricBxDF Scene::roughBxdf(int material, double nOut, double nIn) cons
     return RoughDielectricBxDF(nOut, nIn, *m.slopes, m.shadowing);
 }
 
-Frame Scene::shadingFrame(const SurfaceHit& h) const {
-    const MaterialData& m = materials_[materialIndex(h)];
-    if (m.isRough()) {
-        // Downwind projected on the face; on a face that is (nearly) vertical and facing downwind the
-        // projection vanishes, and the crosswind axis serves (the distribution is then rotated by
-        // 90 degrees on that face, which only a wall-like face can notice).
-        const Vec3 d = m.downwind - dot(m.downwind, h.ng) * h.ng;
-        if (dot(d, d) > 1e-12) return Frame::fromNormalAndTangent(h.ng, m.downwind);
-        return Frame::fromNormalAndTangent(h.ng, Vec3{-m.downwind.y, m.downwind.x, 0.0});
-    }
-    return Frame::fromNormal(h.ng);
+Frame Scene::roughShadingFrame(const SurfaceHit& h, const MaterialData& m) const {
+    // Downwind projected on the face; on a face that is (nearly) vertical and facing downwind the
+    // projection vanishes, and the crosswind axis serves (the distribution is then rotated by
+    // 90 degrees on that face, which only a wall-like face can notice).
+    const Vec3 d = m.downwind - dot(m.downwind, h.ng) * h.ng;
+    if (dot(d, d) > 1e-12) return Frame::fromNormalAndTangent(h.ng, m.downwind);
+    return Frame::fromNormalAndTangent(h.ng, Vec3{-m.downwind.y, m.downwind.x, 0.0});
 }
 
 Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {

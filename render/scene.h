@@ -105,10 +105,15 @@ public:
     // The local frame of bxdf(h): +z the mesh's outward geometric normal; x along the downwind
     // direction projected on the face for rough interfaces (the slope distribution is anisotropic),
     // any tangent otherwise.
-    Frame shadingFrame(const SurfaceHit& h) const;
+    Frame shadingFrame(const SurfaceHit& h) const {
+        const MaterialData& m = material(h);
+        return m.isRough() ? roughShadingFrame(h, m) : Frame::fromNormal(h.ng);
+    }
     // The rough interface of material `material` seen as a horizontal surface (+z up, x downwind)
     // between its mesh's media for the bands of g, for sampling directions before a hit is known.
     RoughDielectricBxDF roughBxdf(int material, double nOut, double nIn) const;
+    // shadingFrame's branch for rough interfaces (out of line; the common case is inline).
+    Frame roughShadingFrame(const SurfaceHit& h, const MaterialData& m) const;
     // Per-band diffuse reflectance at a hit (texture applied); zero for interfaces and black.
     Spec albedo(const SurfaceHit& h, BandGroup g) const;
     // Medium on the side of the hit the ray came from, and on the far side (interfaces).

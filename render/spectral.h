@@ -16,7 +16,21 @@ struct Spec {
     std::array<double, kMaxGroupBands> v;  // only v[0, n) is meaningful (not zero-filled: hot path)
 
     Spec() = default;
-    explicit Spec(int count, double x = 0.0) : n(count) { std::fill(v.begin(), v.begin() + n, x); }
+    explicit Spec(int count, double x = 0.0) : n(count) {
+        for (int i = 0; i < n; ++i) v[i] = x;
+    }
+    // Copies move only the n bands in use: a whole-array copy (136 bytes) per return and per
+    // temporary was the renderer's largest single cost (bench_render), much of it store-forwarding
+    // stalls on the partly written array. (render/ is compiled so that these loops stay loops: a
+    // memset / memmove call costs more than the one to four bands a group usually has.)
+    Spec(const Spec& o) : n(o.n) {
+        for (int i = 0; i < n; ++i) v[i] = o.v[i];
+    }
+    Spec& operator=(const Spec& o) {
+        n = o.n;
+        for (int i = 0; i < n; ++i) v[i] = o.v[i];
+        return *this;
+    }
     double& operator[](int i) { return v[i]; }
     double operator[](int i) const { return v[i]; }
 
