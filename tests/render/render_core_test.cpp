@@ -115,17 +115,23 @@ TEST(Lambertian, WhiteFurnace) {
 
 // ---- Embree adapter --------------------------------------------------------------------------
 
-TEST(EmbreeScene, InstancesDoubleHitsAndNoSelfIntersection) {
+// A unit dome at the origin and an instance of it rotated 90 deg about x (row-major), its pole
+// along -y, moved to (instanceX, 0, 0).
+ir::SceneIR domeAndRotatedInstance(double instanceX) {
     ir::SceneIR s = uniformSkyScene();
     s.materials.push_back(material("m", M::Type::Lambertian, M::Solver::Classic, 0.5));
     s.meshes.push_back(meshOf("sphere", dome({0, 0, 0}, 1.0, 32, 64), {"m"}));
     ir::Instance in;
     in.mesh = "sphere";
-    // Rotate 90 deg about x (row-major) and move to (100, 0, 0).
     const double R[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
     std::copy(R, R + 9, in.rotation);
-    in.translation = {100, 0, 0};
+    in.translation = {instanceX, 0, 0};
     s.instances.push_back(in);
+    return s;
+}
+
+TEST(EmbreeScene, InstancesDoubleHitsAndNoSelfIntersection) {
+    const ir::SceneIR s = domeAndRotatedInstance(100);
     const EmbreeScene es(s);
     EXPECT_EQ(es.triangleCount(), 2 * s.meshes[0].data.triangles.size());
 
@@ -176,16 +182,8 @@ TEST(EmbreeScene, InstancesDoubleHitsAndNoSelfIntersection) {
 // rays from one point into random directions (the Classic hemisphere case), over a direct mesh and
 // a rotated instance, with misses, and a count that leaves a partial last packet.
 TEST(EmbreeScene, CoherentPacketsMatchSingleRays) {
-    ir::SceneIR s = uniformSkyScene();
-    s.materials.push_back(material("m", M::Type::Lambertian, M::Solver::Classic, 0.5));
-    s.meshes.push_back(meshOf("sphere", dome({0, 0, 0}, 1.0, 32, 64), {"m"}));
-    ir::Instance in;
-    in.mesh = "sphere";
-    const double R[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
-    std::copy(R, R + 9, in.rotation);
-    in.translation = {1.5, 0, 0};
-    s.instances.push_back(in);
-    const EmbreeScene es(s);
+    const ir::SceneIR s = domeAndRotatedInstance(1.5);
+    const EmbreeScene es(s);  // (keeps pointers to the IR's meshes)
     int hitsSeen = 0, missesSeen = 0, instanceHits = 0;
     for (int origin = 0; origin < 40; ++origin) {
         RandomStream rng(5, 1, origin);
