@@ -269,15 +269,17 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
 
     // Figures: SNR against the radius (per depth and density, both sides), FWHM and tails against
     // the radius, and per depth the ESFs and LSFs of the densest runs.
-    PlotSpec snr{"SNR against search radius (" + o.water + fmt::format(", HG g = {})", o.g), "search radius (m)", "SNR",
-                 true, true};
-    PlotSpec fw{"LSF FWHM and 10-90% edge width", "search radius (m)", "m", false, false};
-    PlotSpec tail{"Share of the LSF beyond 0.5 m of its peak", "search radius (m)", "fraction", false, false};
+    PlotSpec snr = plotSpec("SNR against search radius (" + o.water + fmt::format(", HG g = {})", o.g),
+                            "search radius (m)", "SNR", true, true);
+    PlotSpec fw = plotSpec("LSF FWHM and 10-90% edge width", "search radius (m)", "m");
+    PlotSpec tail = plotSpec("Share of the LSF beyond 0.5 m of its peak", "search radius (m)", "fraction");
     for (double depth : o.depths)
         for (double density : o.densities) {
-            PlotSeries sb{fmt::format("bright {:g} m, {:g}/m3", depth, density)}, sd{fmt::format("dark {:g} m, {:g}/m3", depth, density)};
-            PlotSeries f1{fmt::format("FWHM {:g} m, {:g}/m3", depth, density)}, f2{fmt::format("10-90 {:g} m, {:g}/m3", depth, density)};
-            PlotSeries t1{fmt::format("{:g} m, {:g}/m3", depth, density)};
+            PlotSeries sb = plotSeries(fmt::format("bright {:g} m, {:g}/m3", depth, density));
+            PlotSeries sd = plotSeries(fmt::format("dark {:g} m, {:g}/m3", depth, density));
+            PlotSeries f1 = plotSeries(fmt::format("FWHM {:g} m, {:g}/m3", depth, density));
+            PlotSeries f2 = plotSeries(fmt::format("10-90 {:g} m, {:g}/m3", depth, density));
+            PlotSeries t1 = plotSeries(fmt::format("{:g} m, {:g}/m3", depth, density));
             sd.dashed = f2.dashed = true;
             for (const auto& r : rows)
                 if (r.depth == depth && r.density == density) {
@@ -295,10 +297,10 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
     writeTextFileAtomic(out / "fwhm_vs_radius.svg", svgLineChart(fw));
     writeTextFileAtomic(out / "tails_vs_radius.svg", svgLineChart(tail));
     if (o.densities.size() > 1) {
-        PlotSpec sn{"SNR against photon density", "volume photons per m^3", "SNR", true, true};
+        PlotSpec sn = plotSpec("SNR against photon density", "volume photons per m^3", "SNR", true, true);
         for (double depth : o.depths)
             for (double radius : o.radii) {
-                PlotSeries sb{fmt::format("bright {:g} m, SR {:g}", depth, radius)};
+                PlotSeries sb = plotSeries(fmt::format("bright {:g} m, SR {:g}", depth, radius));
                 for (const auto& r : rows)
                     if (r.depth == depth && r.radius == radius) sb.x.push_back(r.density), sb.y.push_back(r.m.bright.snr);
                 sn.series.push_back(sb);
@@ -307,10 +309,10 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
     }
     const double densest = *std::max_element(o.densities.begin(), o.densities.end());
     for (double depth : o.depths) {
-        PlotSpec es{fmt::format("ESF, target {:g} m deep, {:g} photons/m^3", depth, densest), "distance from the edge (m)",
-                    "radiance (W m^-2 sr^-1 um^-1)"};
-        PlotSpec ls{fmt::format("LSF, target {:g} m deep, {:g} photons/m^3", depth, densest), "distance from the edge (m)",
-                    "per m (unit area)"};
+        PlotSpec es = plotSpec(fmt::format("ESF, target {:g} m deep, {:g} photons/m^3", depth, densest),
+                               "distance from the edge (m)", "radiance (W m^-2 sr^-1 um^-1)");
+        PlotSpec ls = plotSpec(fmt::format("LSF, target {:g} m deep, {:g} photons/m^3", depth, densest),
+                               "distance from the edge (m)", "per m (unit area)");
         std::string ecsv = "distance_m";
         std::vector<const ImageQualityRow*> sel;
         for (const auto& r : rows)

@@ -2,6 +2,7 @@
 // Small line charts written as standalone SVG (no plotting library needed): used by the study
 // commands for figures a person would rather look at than read (docs/image-quality.md).
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace littoral::pipelines {
@@ -19,6 +20,13 @@ struct PlotSpec {
     int width = 560, height = 380;    // pixels
     std::vector<PlotSeries> series;
 };
+
+// A chart with its axes and no series yet, and an empty series (all fields set: the build uses
+// -Wextra's missing-field-initializers).
+inline PlotSpec plotSpec(std::string title, std::string xLabel, std::string yLabel, bool logX = false, bool logY = false) {
+    return PlotSpec{std::move(title), std::move(xLabel), std::move(yLabel), logX, logY, 560, 380, {}};
+}
+inline PlotSeries plotSeries(std::string label) { return PlotSeries{std::move(label), {}, {}, true, false}; }
 
 // The chart as an SVG document. An empty or degenerate data range still gives a valid document.
 std::string svgLineChart(const PlotSpec& spec);
