@@ -154,11 +154,6 @@ AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) 
     std::set<std::string> dielectrics;
     for (const auto& m : spec.materials)
         if (m.type == "dielectric") dielectrics.insert(m.name);
-    auto dielectricLoc = [&](const std::string& name) {
-        for (const auto& m : spec.materials)
-            if (m.name == name) return m.loc;
-        return SourceLoc{};
-    };
 
     // ---- texture classes (terrain materials) ----
     t = Clock::now();

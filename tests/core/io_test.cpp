@@ -151,7 +151,7 @@ TEST(AtomicOutput, RefusesToReplaceAnythingButARegularFile) {
 
 TEST(OutputNames, PortableUniqueAfterSuffixes) {
     for (const char* ok : {"nadir", "sim-c-nadir", "cam_2", "A.b", "x"}) EXPECT_EQ(outputNameProblem(ok), "") << ok;
-    for (const std::string bad : {std::string(""), std::string("a/b"), std::string("..\\x"), std::string("a\0b", 3),
+    for (const std::string& bad : {std::string(""), std::string("a/b"), std::string("..\\x"), std::string("a\0b", 3),
                                   std::string(".hidden"), std::string("-rf"), std::string(".."), std::string("nul.exr"),
                                   std::string("COM3"), std::string("with space"), std::string("caf\xc3\xa9"),
                                   std::string(65, 'a')})
@@ -294,7 +294,7 @@ ir::SceneIR sampleIR() {
     c.focalLength = 0.025;
     c.pixelPitch = 1e-5;
     s.sensors.push_back(c);
-    s.probes.push_back({"p", {0, 0, -1}, {"Ed", "Lu"}, "water"});
+    s.probes.push_back({"p", {0, 0, -1}, {"Ed", "Lu"}, "water", std::nullopt});
     s.metadata["generator"] = "test";
     return s;
 }
