@@ -30,8 +30,10 @@ Quantity parseQuantity(const std::string& q, const std::string& who) {
     throw InputError(fmt::format("{}: unknown quantity '{}' (allowed: Ed, Eu, Eod, Eou, Lu)", who, q));
 }
 
-// Pass numbers for probe random streams, far from pixel-sample passes.
+// Pass numbers for probe random streams, far from pixel-sample passes; progressive pass p adds
+// (p - 1) 2^24, so that every pass draws its own directions and paths (see renderer.cpp).
 constexpr uint64_t kProbePassBase = 1ull << 40;
+constexpr uint64_t kProbeProgressiveStride = 1ull << 24;
 
 }  // namespace
 
@@ -53,6 +55,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     const int chunksPerBatch = (perBatch + kChunk - 1) / kChunk;
     const int nb = scene.bandCount();
     const StratifiedLayout layout(perBatch);
+    const uint64_t streamBase = kProbePassBase + static_cast<uint64_t>(estimators.pass() - 1) * kProbeProgressiveStride;
 
     std::unique_ptr<Progress> progress;
     const uint64_t totalChunks =
@@ -98,7 +101,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                         Spec sum(g.count);
                         for (int k = k0; k < k1; ++k) {
                             const uint64_t index = static_cast<uint64_t>(batch) * perBatch + k;
-                            RandomStream rng(scene.ir().render.seed, kProbePassBase + probeIndex * 16 + qi, index);
+                            RandomStream rng(scene.ir().render.seed, streamBase + probeIndex * 16 + qi, index);
                             const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
                             Vec3 w;
                             double weight;

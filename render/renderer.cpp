@@ -170,6 +170,10 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     const uint64_t seed = scene.ir().render.seed;
     const int spp = cam.samplesPerPixel();
     const StratifiedLayout pixelLayout(spp);
+    // Progressive pass p draws its own samples (streams (p - 1) spp ... p spp - 1): with the same
+    // numbers in every pass, the passes would share their sampling noise and their spread would
+    // see only the photon maps' noise.
+    const uint64_t firstStream = static_cast<uint64_t>(estimators.pass() - 1) * static_cast<uint64_t>(spp);
 
     std::unique_ptr<Progress> progress;
     if (opts.progress)
@@ -184,7 +188,7 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
                 const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
                 Spec sum(g.count);
                 for (int s = 0; s < spp; ++s) {
-                    RandomStream rng(seed, static_cast<uint64_t>(s), pixel);
+                    RandomStream rng(seed, firstStream + static_cast<uint64_t>(s), pixel);
                     Vec2 u{0.5, 0.5};  // one sample: the pixel centre (as the thesis' comparators)
                     const double j1 = rng.uniform(), j2 = rng.uniform();
                     if (spp > 1) u = pixelLayout.point(s, j1, j2);

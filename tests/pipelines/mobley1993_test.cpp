@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -53,10 +52,8 @@ std::map<std::string, std::map<std::string, ProbeCell>> runProblem(const std::st
 
 using Cells = std::map<std::string, std::map<std::string, ProbeCell>>;
 
-// `notAsserted`: cells ("tau5 Ed") that are run and printed but not asserted, each with its reason
-// stated where the test calls this.
 Cells checkProblem(const std::string& file, int problem, double w0, const std::map<double, std::string>& probeAtTau,
-                   double noiseFloor = 0.01, const std::set<std::string>& notAsserted = {}) {
+                   double noiseFloor = 0.01) {
     const auto cells = runProblem(file);
     for (const auto& [tau, probe] : probeAtTau) {
         const mobley1993::Row* row = mobley1993::find(problem, w0, tau);
@@ -72,14 +69,12 @@ Cells checkProblem(const std::string& file, int problem, double w0, const std::m
             const ProbeCell& c = cells.at(probe).at(q);
             const double rel = c.value / cell->mean - 1.0;
             const double tol = mobley1993::toleranceWithRounding(*cell, c.stderr_);
-            const bool assertIt = !notAsserted.count(probe + " " + q);
-            if (assertIt) EXPECT_LE(std::abs(rel), tol) << file << " tau " << tau << " " << q << ": " << c.value << " +- " << c.stderr_
+            EXPECT_LE(std::abs(rel), tol) << file << " tau " << tau << " " << q << ": " << c.value << " +- " << c.stderr_
                                           << " vs " << cell->mean << " (s/mean " << cell->sOverMean << ")";
-            if (assertIt) EXPECT_LE(c.stderr_ / c.value, std::max(cell->sOverMean, noiseFloor))
+            EXPECT_LE(c.stderr_ / c.value, std::max(cell->sOverMean, noiseFloor))
                 << file << " tau " << tau << " " << q << ": the run is too noisy to test this cell";
-            std::printf("[ mobley ] %-22s tau %4.1f %-3s %.4e +- %.2e  table %.3e  diff %+6.2f %%  tol %5.2f %%%s\n",
-                        file.c_str(), tau, q, c.value, c.stderr_, cell->mean, 100 * rel, 100 * tol,
-                        assertIt ? "" : "  (not asserted)");
+            std::printf("[ mobley ] %-22s tau %4.1f %-3s %.4e +- %.2e  table %.3e  diff %+6.2f %%  tol %5.2f %%\n",
+                        file.c_str(), tau, q, c.value, c.stderr_, cell->mean, 100 * rel, 100 * tol);
         }
     }
     return cells;
@@ -120,12 +115,13 @@ TEST(Mobley1993, Problem1Albedo09PhotonMaps) {
 }
 
 TEST(Mobley1993, Problem6PhotonMaps) {
-    // Known discrepancy, not asserted: Ed just above the bottom comes out 1.4 % above the table
-    // (tolerance 1.1 %), in every run (r = 0.05 and 0.1 m, 150k-300k photons), while the path
-    // tracer gives +0.4 +- 0.3 %. Without effective scattering it is -1.6 % and Lu(tau 1) -17 %
-    // (Petzold's forward peak makes the beam estimates heavy-tailed). Open in the issue notes.
-    const Cells cells =
-        checkProblem("problem6_photon_maps.yaml", 6, 0.2, {{1.0, "tau1"}, {5.0, "tau5"}}, 0.05, {"tau5 Ed"});
+    // Ed just above the bottom is the tightest cell: about +1.3 % (se 0.5 %, tolerance 1.7 %). Part
+    // of it is the effective-scattering model itself (forward scattering within 0.01 sr counted as
+    // unscattered): an independent 1-D Monte Carlo of Petzold water gives Ed(tau 5) 0.24 +- 0.17 %
+    // higher with the model than without; the path tracer gives +0.4 +- 0.3 % against the table.
+    // Without effective scattering the cell is -1.6 % and Lu(tau 1) -17 % (Petzold's forward peak
+    // makes the beam estimates heavy-tailed).
+    const Cells cells = checkProblem("problem6_photon_maps.yaml", 6, 0.2, {{1.0, "tau1"}, {5.0, "tau5"}}, 0.05);
     ASSERT_TRUE(cells.count("tau5"));
     const auto& b = cells.at("tau5");
     // The bottom identities of the path test (Eou = Ed, 2 pi Lu = Ed): here Eou and Lu come from the

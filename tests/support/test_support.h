@@ -75,7 +75,7 @@ inline void expectSceneRefused(const std::string& group, const std::string& name
                                const std::string& where, const std::string& message) {
     const std::filesystem::path dir = scratchDir(group, name);
     const std::filesystem::path scene = writeTextFile(dir, name + ".yaml", text);
-    for (const std::string cmd : {"check-scene", "build", "run"}) {
+    for (const std::string& cmd : {std::string("check-scene"), std::string("build"), std::string("run")}) {
         const std::filesystem::path out = dir / ("out-" + cmd);
         const std::string args = cmd == "check-scene" ? scene.string() : scene.string() + " --out " + out.string();
         const CommandResult r = runLittoral("--quiet " + cmd + " " + args);
