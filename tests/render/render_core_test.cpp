@@ -284,6 +284,41 @@ TEST(Determinism, OneAndTwoThreadsBitwiseEqual) {
     EXPECT_NE(0, std::memcmp(a.film.pixels.data(), c.film.pixels.data(), a.film.pixels.size() * sizeof(float)));
 }
 
+// Progressive pass p draws its own pixel and probe samples: its estimates are independent of pass
+// 1's (the passes' spread is the run's standard error), and pass 1 is what a single-pass render
+// gives. (EstimatorSet(scene, pass) is what render_job builds for each pass.)
+TEST(Determinism, ProgressivePassesDrawTheirOwnSamples) {
+    ir::SceneIR s = noisyScene();
+    ir::Probe p;
+    p.name = "p";
+    p.position = {-2, -2, 1};
+    p.quantities = {"Eu"};  // the ground, box and droplet below: direction sampling is noisy
+    s.render.probeSamples = 64;
+    s.probes.push_back(p);
+    const Scene scene(s, ".");
+    const EstimatorSet pass1(scene, 1), pass2(scene, 2);
+    const SensorImage single = renderSensor(scene, s.sensors[0], quiet(2));
+    const SensorImage a = renderSensor(scene, pass1, s.sensors[0], quiet(2));
+    const SensorImage b = renderSensor(scene, pass2, s.sensors[0], quiet(2));
+    const size_t bytes = a.film.pixels.size() * sizeof(float);
+    EXPECT_EQ(0, std::memcmp(single.film.pixels.data(), a.film.pixels.data(), bytes));
+    EXPECT_NE(0, std::memcmp(a.film.pixels.data(), b.film.pixels.data(), bytes));
+    // Same expectation: the frame means agree within their noise (4 standard errors of a
+    // difference of two independent means over the pixels).
+    double ma = 0, mb = 0, va = 0;
+    const size_t n = a.film.pixels.size();
+    for (size_t k = 0; k < n; ++k) ma += a.film.pixels[k], mb += b.film.pixels[k];
+    ma /= n, mb /= n;
+    for (size_t k = 0; k < n; ++k) va += (a.film.pixels[k] - b.film.pixels[k]) * (a.film.pixels[k] - b.film.pixels[k]);
+    const double seDiff = std::sqrt(va / n / n);  // the pixel differences' spread (an upper bound)
+    EXPECT_NEAR(ma, mb, 4 * seDiff);
+    const auto v1 = evaluateProbe(scene, pass1, s.probes[0], 0, quiet(2));
+    const auto v2 = evaluateProbe(scene, pass2, s.probes[0], 0, quiet(2));
+    ASSERT_EQ(v1.size(), 1u);
+    EXPECT_NE(v1[0].mean[0], v2[0].mean[0]);
+    EXPECT_NEAR(v1[0].mean[0], v2[0].mean[0], 4 * std::hypot(v1[0].stderr_[0], v2[0].stderr_[0]));
+}
+
 // ---- probes ----------------------------------------------------------------------------------
 
 // In air above a black ground under a uniform sky L = 1/pi with a sun of beam irradiance 2 at
