@@ -106,6 +106,8 @@ private:
     Spec trace(const Ray& ray, const PathState& st, RandomStream& rng) const;
     // trace() once the ray's closest hit is known (found: whether it hit; h: the hit).
     Spec traceHit(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st, RandomStream& rng) const;
+    // traceHit() for a segment that does not end at a periodic wall.
+    Spec traceSegment(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st, RandomStream& rng) const;
     Spec shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                         RandomStream& rng) const;
     // Rough (Cox–Munk) interfaces under the Fresnel solver: sun next-event estimation with MIS and
@@ -267,8 +269,34 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
     return traceHit(ray, found, h, st, rng);
 }
 
-Spec DirsigEstimator::traceHit(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st,
+Spec DirsigEstimator::traceHit(const Ray& ray0, bool found0, const SurfaceHit& h0, const PathState& st0,
                                RandomStream& rng) const {
+    if (!found0 || !scene_.material(h0).isPeriodicWall()) return traceSegment(ray0, found0, h0, st0, rng);
+    // Periodic walls are followed in a loop, not by recursion (a grazing ray in a small periodic
+    // domain wraps hundreds of times, and a stack frame per wrap overflowed worker threads' stacks
+    // under the sanitizers): L = sum over the wrapped segments of their in-scatter times the
+    // transmittance before them, plus the last segment's radiance times the whole transmittance.
+    Spec L(group_.count), T(group_.count, 1.0);
+    Ray ray = ray0;
+    SurfaceHit h = h0;
+    PathState st = st0;
+    bool found = true;
+    while (found && scene_.material(h).isPeriodicWall()) {
+        const auto next = scene_.wrapRay(h, ray.d);
+        if (mediumPM(st.medium)) L += T * volumeInScatter(ray, h.t, st.medium, {0, 0, 0}, st.startNormal);
+        if (!next || st.wraps >= Scene::kMaxWraps) return L;
+        T *= transmittance(ray, h.t, st.medium);
+        st.chain.hitSurface();
+        ++st.wraps;
+        st.startNormal = Normal3{0, 0, 0};
+        ray = *next;
+        found = scene_.geometry().intersect(ray, &h);
+    }
+    return L + T * traceSegment(ray, found, h, st, rng);
+}
+
+Spec DirsigEstimator::traceSegment(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st,
+                                   RandomStream& rng) const {
     const Medium& medium = scene_.media()[st.medium];
     if (!found) {
         Spec L = mediumPM(st.medium) ? volumeInScatter(ray, ir::kInfinity, st.medium, {0, 0, 0}, st.startNormal)
@@ -278,17 +306,6 @@ Spec DirsigEstimator::traceHit(const Ray& ray, bool found, const SurfaceHit& h, 
         return L + environment(ray.d, st.chain);
     }
     const MaterialData& m = scene_.material(h);
-    if (m.isPeriodicWall()) {
-        const auto next = scene_.wrapRay(h, ray.d);
-        Spec L = mediumPM(st.medium) ? volumeInScatter(ray, h.t, st.medium, {0, 0, 0}, st.startNormal)
-                                     : Spec(group_.count);
-        if (!next || st.wraps >= Scene::kMaxWraps) return L;
-        PathState s2 = st;
-        s2.chain.hitSurface();
-        ++s2.wraps;
-        s2.startNormal = Normal3{0, 0, 0};
-        return L + trace(*next, s2, rng) * transmittance(ray, h.t, st.medium);
-    }
     // A Classic sky ray ends at an opaque surface with nothing (unless the medium it crossed
     // in-scatters): settled before any BxDF or path state is built (a third of a Classic frame's rays).
     if (st.skyOnly && !m.isInterface() && !m.isRough() && !mediumPM(st.medium)) return Spec(group_.count);
