@@ -308,7 +308,7 @@ Spec DirsigEstimator::traceSegment(const Ray& ray, bool found, const SurfaceHit&
     const MaterialData& m = scene_.material(h);
     // A Classic sky ray ends at an opaque surface with nothing (unless the medium it crossed
     // in-scatters): settled before any BxDF or path state is built (a third of a Classic frame's rays).
-    if (st.skyOnly && !m.isInterface() && !m.isRough() && !mediumPM(st.medium)) return Spec(group_.count);
+    if (st.skyOnly && m.isOpaque() && !mediumPM(st.medium)) return Spec(group_.count);
     // The segment's medium: an interface knows its own sides (trusted over the carried medium);
     // an opaque surface is reached through whatever medium the ray carries.
     const BxDF bxdf = scene_.bxdf(h, group_);

@@ -71,6 +71,26 @@ std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
     return t;
 }
 
+namespace {
+
+// The raster of a textured or classified material (`what`: "texture" or "class map"), read by
+// `load` from the IR folder and placed on the material's plan-view extent, which must not be empty.
+template <class Load>
+auto placedOnExtent(Load&& load, const std::filesystem::path& irDir, const ir::Material& m, const std::string& who,
+                    const char* what) {
+    if (!(m.textureX1 > m.textureX0) || !(m.textureY1 > m.textureY0))
+        throw InputError(fmt::format("{}: {} extent [{}, {}] x [{}, {}] is empty", who, what, m.textureX0, m.textureX1,
+                                     m.textureY0, m.textureY1));
+    auto raster = load(irDir / m.texture);
+    raster->x0 = m.textureX0;
+    raster->x1 = m.textureX1;
+    raster->y0 = m.textureY0;
+    raster->y1 = m.textureY1;
+    return raster;
+}
+
+}  // namespace
+
 int Scene::mediumIndex(const std::string& name, const std::string& who) const {
     if (name.empty()) return 0;
     for (size_t i = 1; i < media_.size(); ++i)
@@ -105,15 +125,7 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
                         throw InputError(fmt::format("{}: reflectance {} outside [0, 1]", who, r));
                 if (m.type == T::Textured) {
                     if (m.texture.empty()) throw InputError(fmt::format("{}: Textured material needs a texture", who));
-                    if (!(m.textureX1 > m.textureX0) || !(m.textureY1 > m.textureY0))
-                        throw InputError(fmt::format("{}: texture extent [{}, {}] x [{}, {}] is empty", who,
-                                                     m.textureX0, m.textureX1, m.textureY0, m.textureY1));
-                    auto tex = loadTexture(irDir / m.texture);
-                    tex->x0 = m.textureX0;
-                    tex->x1 = m.textureX1;
-                    tex->y0 = m.textureY0;
-                    tex->y1 = m.textureY1;
-                    d.texture = std::move(tex);
+                    d.texture = placedOnExtent(loadTexture, irDir, m, who, "texture");
                 }
                 break;
             case T::Dielectric:
@@ -153,15 +165,7 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
             case T::Classified: {
                 d.reflectance.assign(bands_.size(), 0.0);
                 if (m.texture.empty()) throw InputError(fmt::format("{}: a classified material needs a class map", who));
-                if (!(m.textureX1 > m.textureX0) || !(m.textureY1 > m.textureY0))
-                    throw InputError(fmt::format("{}: class map extent [{}, {}] x [{}, {}] is empty", who, m.textureX0,
-                                                 m.textureX1, m.textureY0, m.textureY1));
-                auto map = loadClassRaster(irDir / m.texture);
-                map->x0 = m.textureX0;
-                map->x1 = m.textureX1;
-                map->y0 = m.textureY0;
-                map->y1 = m.textureY1;
-                d.classMap = std::move(map);
+                d.classMap = placedOnExtent(loadClassRaster, irDir, m, who, "class map");
                 break;
             }
         }
