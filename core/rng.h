@@ -13,12 +13,17 @@ constexpr uint64_t mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
-constexpr uint64_t hashKey(uint64_t seed, uint64_t pass, uint64_t index, uint64_t dim) {
+// The chain's first three links depend only on the stream, (seed, pass, index); a stream keeps
+// their result, so each draw costs one mix64 and the numbers are those of hashKey.
+constexpr uint64_t streamKey(uint64_t seed, uint64_t pass, uint64_t index) {
     uint64_t h = mix64(seed + 0x9e3779b97f4a7c15ULL);
     h = mix64(h ^ (pass + 0x632be59bd9b4e019ULL));
-    h = mix64(h ^ (index + 0x85157af5ULL * 0x9e3779b97f4a7c15ULL));
-    h = mix64(h ^ (dim + 0xd1b54a32d192ed03ULL));
-    return h;
+    return mix64(h ^ (index + 0x85157af5ULL * 0x9e3779b97f4a7c15ULL));
+}
+constexpr uint64_t drawKey(uint64_t stream, uint64_t dim) { return mix64(stream ^ (dim + 0xd1b54a32d192ed03ULL)); }
+
+constexpr uint64_t hashKey(uint64_t seed, uint64_t pass, uint64_t index, uint64_t dim) {
+    return drawKey(streamKey(seed, pass, index), dim);
 }
 
 // Uniform double in [0, 1) from the top 53 bits.
@@ -28,16 +33,16 @@ constexpr double toUnit(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.
 class RandomStream {
 public:
     constexpr RandomStream(uint64_t seed, uint64_t pass, uint64_t index, uint64_t firstDim = 0)
-        : seed_(seed), pass_(pass), index_(index), dim_(firstDim) {}
-    constexpr double uniform() { return toUnit(hashKey(seed_, pass_, index_, dim_++)); }
-    constexpr uint64_t bits() { return hashKey(seed_, pass_, index_, dim_++); }
+        : key_(streamKey(seed, pass, index)), dim_(firstDim) {}
+    constexpr double uniform() { return toUnit(drawKey(key_, dim_++)); }
+    constexpr uint64_t bits() { return drawKey(key_, dim_++); }
     // Random access without advancing.
-    constexpr double at(uint64_t dim) const { return toUnit(hashKey(seed_, pass_, index_, dim)); }
+    constexpr double at(uint64_t dim) const { return toUnit(drawKey(key_, dim)); }
     constexpr uint64_t dimension() const { return dim_; }
     void skipTo(uint64_t dim) { dim_ = dim; }
 
 private:
-    uint64_t seed_, pass_, index_, dim_;
+    uint64_t key_, dim_;
 };
 
 }  // namespace littoral
