@@ -92,9 +92,9 @@ Vec3 decodeOctahedral(uint32_t e) {
 }
 
 void PhotonMap::add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power) {
-    x_.push_back(static_cast<float>(p.x));
-    y_.push_back(static_cast<float>(p.y));
-    z_.push_back(static_cast<float>(p.z));
+    pos_.push_back(static_cast<float>(p.x));
+    pos_.push_back(static_cast<float>(p.y));
+    pos_.push_back(static_cast<float>(p.z));
     dir_.push_back(encodeOctahedral(dir));
     if (normals_) nrm_.push_back(encodeOctahedral(normal));
     for (int b = 0; b < bands_; ++b) pow_.push_back(floatToHalf(static_cast<float>(power[b])));
@@ -103,22 +103,20 @@ void PhotonMap::add(const Point3& p, const Vec3& dir, const Vec3& normal, const 
 void PhotonMap::append(const PhotonMap& o) {
     LITTORAL_CHECK_EQ(o.bands_, bands_);
     LITTORAL_CHECK_EQ(o.normals_, normals_);
-    x_.insert(x_.end(), o.x_.begin(), o.x_.end());
-    y_.insert(y_.end(), o.y_.begin(), o.y_.end());
-    z_.insert(z_.end(), o.z_.begin(), o.z_.end());
+    pos_.insert(pos_.end(), o.pos_.begin(), o.pos_.end());
     dir_.insert(dir_.end(), o.dir_.begin(), o.dir_.end());
     nrm_.insert(nrm_.end(), o.nrm_.begin(), o.nrm_.end());
     pow_.insert(pow_.end(), o.pow_.begin(), o.pow_.end());
 }
 
 void PhotonMap::reserve(size_t n) {
-    x_.reserve(n), y_.reserve(n), z_.reserve(n), dir_.reserve(n);
+    pos_.reserve(3 * n), dir_.reserve(n);
     if (normals_) nrm_.reserve(n);
     pow_.reserve(n * static_cast<size_t>(bands_));
 }
 
 void PhotonMap::clear() {
-    x_.clear(), y_.clear(), z_.clear(), dir_.clear(), nrm_.clear(), pow_.clear();
+    pos_.clear(), dir_.clear(), nrm_.clear(), pow_.clear();
     bucketStart_.clear();
     cell_ = 0;
     mask_ = 0;
@@ -127,7 +125,7 @@ void PhotonMap::clear() {
 void PhotonMap::build(double cellSize) {
     LITTORAL_CHECK(cellSize > 0);
     cell_ = cellSize;
-    const size_t n = x_.size();
+    const size_t n = size();
     LITTORAL_CHECK(n < (size_t{1} << 32));
     // About one bucket per photon (a power of two, at least 1024).
     uint64_t buckets = 1024;
@@ -135,19 +133,22 @@ void PhotonMap::build(double cellSize) {
     mask_ = buckets - 1;
     const double inv = 1.0 / cell_;
     // A stable two-level counting sort by bucket, in parallel and deterministic (the result does
-    // not depend on the threads): (1) each block of photons counts its photons per partition (the
-    // top 10 bits of the bucket) and scatters their indices, in order, to offsets from a scan in
-    // (partition, block) order; (2) each partition, a range small enough for the cache, is
-    // counting-sorted by its buckets; (3) the records are gathered in the new order.
+    // not depend on the threads), that moves the records in streaming passes instead of gathering
+    // them in random order (a cache miss per field and photon once the map outgrows the caches):
+    // (1) each block of photons counts its photons per partition (the top 10 bits of the bucket);
+    // a scan in (partition, block) order gives every photon its slot in partition order, and each
+    // field is scattered there (sequential reads, 1024 sequential write streams); (2) each
+    // partition, a contiguous range small enough for the cache, is counting-sorted by bucket and
+    // each field permuted inside it.
     constexpr int kPartBits = 10;
     constexpr size_t kParts = size_t{1} << kPartBits;
     const int shift = std::countr_zero(buckets) - kPartBits;  // buckets >= 1024
-    std::vector<uint32_t> bucket(n);
+    LargeVector<uint32_t> bucket(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i)
-            bucket[i] = static_cast<uint32_t>(bucketOf(static_cast<int64_t>(std::floor(x_[i] * inv)),
-                                                       static_cast<int64_t>(std::floor(y_[i] * inv)),
-                                                       static_cast<int64_t>(std::floor(z_[i] * inv))));
+            bucket[i] = static_cast<uint32_t>(bucketOf(static_cast<int64_t>(std::floor(pos_[3 * i] * inv)),
+                                                       static_cast<int64_t>(std::floor(pos_[3 * i + 1] * inv)),
+                                                       static_cast<int64_t>(std::floor(pos_[3 * i + 2] * inv))));
     });
     const size_t blockSize = std::max<size_t>(size_t{1} << 16, (n + 255) / 256);
     const size_t blocks = (n + blockSize - 1) / blockSize;
@@ -169,48 +170,58 @@ void PhotonMap::build(double cellSize) {
         }
         partStart[kParts] = sum;
     }
-    std::vector<uint32_t> byPart(n);
+    // slot[i]: photon i's position in partition order (stable).
+    LargeVector<uint32_t> slot(n);
     tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
         size_t* off = &counts[k * kParts];
         for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i)
-            byPart[off[bucket[i] >> shift]++] = static_cast<uint32_t>(i);
+            slot[i] = static_cast<uint32_t>(off[bucket[i] >> shift]++);
     });
+    auto scatter = [&](auto& v, size_t stride) {  // v[slot[i]] = v[i], by blocks
+        if (v.empty()) return;
+        std::remove_reference_t<decltype(v)> out(v.size());
+        tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
+            for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i)
+                std::copy_n(v.begin() + i * stride, stride, out.begin() + size_t{slot[i]} * stride);
+        });
+        v.swap(out);
+    };
+    scatter(bucket, 1);
+    scatter(pos_, 3);
+    scatter(dir_, 1);
+    scatter(nrm_, 1);
+    scatter(pow_, static_cast<size_t>(bands_));
+    // Within each partition: slot[k] becomes the final position of the photon now at k.
     bucketStart_.assign(buckets + 2, 0);
-    std::vector<uint32_t> order(n);
     const size_t perPart = size_t{1} << shift;
     tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
         const size_t b0 = p * perPart, s0 = partStart[p], s1 = partStart[p + 1];
         // bucketStart_[b] = first photon of bucket b, for this partition's buckets only.
         std::vector<uint32_t> next(perPart, 0);
-        for (size_t k = s0; k < s1; ++k) ++next[bucket[byPart[k]] - b0];
+        for (size_t k = s0; k < s1; ++k) ++next[bucket[k] - b0];
         uint32_t sum = static_cast<uint32_t>(s0);
         for (size_t j = 0; j < perPart; ++j) {
             const uint32_t c = next[j];
             bucketStart_[b0 + j] = next[j] = sum;
             sum += c;
         }
-        for (size_t k = s0; k < s1; ++k) {  // stable within the partition
-            const uint32_t i = byPart[k];
-            order[next[bucket[i] - b0]++] = i;
-        }
+        for (size_t k = s0; k < s1; ++k) slot[k] = next[bucket[k] - b0]++;  // stable within the partition
     });
     // Bucket b holds [bucketStart_[b], bucketStart_[b + 1]); the last bucket ends at n.
     bucketStart_[buckets] = bucketStart_[buckets + 1] = static_cast<uint32_t>(n);
-    auto permute = [&](auto& v, size_t stride) {
+    auto permuteInPartitions = [&](auto& v, size_t stride) {  // v[slot[k]] = v[k], inside each partition
         if (v.empty()) return;
         std::remove_reference_t<decltype(v)> out(v.size());
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t k = r.begin(); k != r.end(); ++k)
-                std::copy_n(v.begin() + order[k] * stride, stride, out.begin() + k * stride);
+        tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
+            for (size_t k = partStart[p]; k < partStart[p + 1]; ++k)
+                std::copy_n(v.begin() + k * stride, stride, out.begin() + size_t{slot[k]} * stride);
         });
         v.swap(out);
     };
-    permute(x_, 1);
-    permute(y_, 1);
-    permute(z_, 1);
-    permute(dir_, 1);
-    permute(nrm_, 1);
-    permute(pow_, static_cast<size_t>(bands_));
+    permuteInPartitions(pos_, 3);
+    permuteInPartitions(dir_, 1);
+    permuteInPartitions(nrm_, 1);
+    permuteInPartitions(pow_, static_cast<size_t>(bands_));
 }
 
 size_t PhotonMap::memoryBytes() const { return size() * bytesPerPhoton() + bucketStart_.size() * sizeof(uint32_t); }
