@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/stats.h"
+#include "render/clearance_grid.h"
 
 namespace littoral::render {
 
@@ -24,7 +25,7 @@ void embreeErrorCallback(void*, RTCError code, const char* str) {
 // Per-thread ray counts, flushed into the named counters by flushRayStats(): one atomic
 // add per ray shared by all threads would cost more than a coherent Embree traversal.
 struct RayCounts {
-    int64_t cast = 0, hits = 0, shadow = 0;
+    int64_t cast = 0, hits = 0, shadow = 0, clear = 0;
 };
 thread_local RayCounts tlsCounts;
 thread_local RayLog* tlsLog = nullptr;
@@ -35,10 +36,12 @@ void flushRayStats() {
     static StatCounter& cast = statCounter("rays cast");
     static StatCounter& hits = statCounter("ray hits");
     static StatCounter& shadow = statCounter("shadow rays");
+    static StatCounter& clear = statCounter("rays answered by the clearance grid (no Embree traversal)");
     RayCounts& c = tlsCounts;
     if (c.cast) cast.add(c.cast);
     if (c.hits) hits.add(c.hits);
     if (c.shadow) shadow.add(c.shadow);
+    if (c.clear) clear.add(c.clear);
     c = RayCounts{};
 }
 
@@ -75,6 +78,14 @@ struct EmbreeScene::Impl {
     std::vector<int> geomToInstance;  // top-level geomID -> instance index (instance geometries)
     BBox3 box;
     uint64_t triangles = 0;
+    ClearanceGrid clearance;  // finite rays through empty space skip Embree (render/clearance_grid.h)
+
+    bool clearSegment(const Ray& r) const {
+        if (!(r.tMax < std::numeric_limits<double>::infinity())) return false;
+        if (!clearance.segmentClear(r.at(r.tMin), r.at(r.tMax))) return false;
+        ++tlsCounts.clear;
+        return true;
+    }
 
 
     ~Impl() {
@@ -263,6 +274,20 @@ EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()
         s.triangles += m.triangles.size();
     }
     rtcCommitScene(s.scene);
+    // Every triangle where Embree places it: each mesh's own placement, then each instance.
+    s.clearance.build(s.box, [&](auto&& mark) {
+        for (size_t mi = 0; mi < ir.meshes.size(); ++mi)
+            for (const auto& t : ir.meshes[mi].data.triangles) {
+                const auto& p = ir.meshes[mi].data.positions;
+                mark(p[t[0]], p[t[1]], p[t[2]]);
+            }
+        for (size_t ii = 0; ii < s.instances.size(); ++ii) {
+            const TriMesh& m = *s.meshes[s.instances[ii].mesh].mesh;
+            const int inst = static_cast<int>(ii);
+            for (const auto& t : m.triangles)
+                mark(s.worldVertex(inst, m, t[0]), s.worldVertex(inst, m, t[1]), s.worldVertex(inst, m, t[2]));
+        }
+    });
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -271,6 +296,7 @@ bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
     const Impl& s = *impl_;
     ++tlsCounts.cast;
     if (tlsLog) [[unlikely]] tlsLog->closest.push_back(r);
+    if (s.clearSegment(r)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -328,6 +354,7 @@ bool EmbreeScene::occluded(const Ray& r) const {
     const Impl& s = *impl_;
     ++tlsCounts.shadow;
     if (tlsLog) [[unlikely]] tlsLog->occlusion.push_back(r);
+    if (s.clearSegment(r)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay rr;

@@ -141,8 +141,9 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
             bool hit;
             const Medium& md = scene.media()[medium];
             if (md.scattering()) {
-                // The free flight first, then the geometry only up to it: a short ray that misses
-                // costs Embree a fraction of a full one. If a surface comes first, the flight is
+                // The free flight first, then the geometry only up to it: a short ray in open water
+                // is answered by the clearance grid without Embree (render/clearance_grid.h), and
+                // one near a surface costs Embree a fraction of a full ray. If a surface comes first, the flight is
                 // sampled again to it with the same numbers (the same collision depth, now beyond
                 // the surface: the photon reaches it with weight T / P(no event)).
                 const double uBand = rng.uniform(), uDist = rng.uniform();

@@ -1,0 +1,79 @@
+#pragma once
+// A coarse grid over the scene's bounds that answers, in constant time, "can this segment touch
+// any triangle?" for the short rays of scattering media (a photon's free flight, a path vertex's
+// next segment: about a metre, in open water far from any surface). EmbreeScene asks it before
+// tracing a ray of finite length and skips Embree when the answer is no.
+//
+// Each cell stores its clearance: the Chebyshev distance, in cells and capped at kMaxClearance,
+// to the nearest cell that some triangle overlaps (0 for such a cell). A cell counts as overlapped
+// when the triangle meets the cell's box grown by a margin (exact separating-axis test, Akenine-
+// Moeller 2001), so Embree's single-precision traversal cannot find a hit the grid does not know.
+// A segment from a to b, both inside the grid, lies in the box of cells between cell(a) and
+// cell(b); if the largest per-axis index difference is smaller than cell(a)'s clearance, every
+// one of those cells is empty, so the segment meets no triangle.
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <vector>
+
+#include "core/bbox.h"
+
+namespace littoral::render {
+
+class ClearanceGrid {
+public:
+    static constexpr int kMaxClearance = 15;
+
+    ClearanceGrid() = default;
+    // Covers `bounds` (the scene's, padded slightly) with about targetCells cells; then calls
+    // forEachTriangle(mark), where mark(a, b, c) is to be called for every world-space triangle.
+    template <class F> void build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells = int64_t{1} << 18);
+
+    // True only if no triangle can meet the closed segment [a, b].
+    bool segmentClear(const Point3& a, const Point3& b) const {
+        if (clear_.empty()) return false;
+        int ia[3], ib[3];
+        if (!cellOf(a, ia) || !cellOf(b, ib)) return false;
+        int d = 0;
+        for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(ia[k] - ib[k]));
+        return d < clear_[index(ia)];
+    }
+
+    bool built() const { return !clear_.empty(); }
+    int cells(int axis) const { return n_[axis]; }
+    // Clearance of a cell (for tests and statistics).
+    int clearance(int ix, int iy, int iz) const { const int i[3] = {ix, iy, iz}; return clear_[index(i)]; }
+
+private:
+    void init(const BBox3& bounds, int64_t targetCells);
+    void mark(const Point3& a, const Point3& b, const Point3& c);
+    void finish();  // occupancy -> clearance (separable Chebyshev distance transform)
+    bool cellOf(const Point3& p, int* i) const {
+        for (int k = 0; k < 3; ++k) {
+            const double u = (p[k] - lo_[k]) * inv_[k];
+            if (!(u >= 0 && u < n_[k])) return false;  // outside, or NaN
+            i[k] = static_cast<int>(u);
+        }
+        return true;
+    }
+    size_t index(const int* i) const {
+        return (static_cast<size_t>(i[2]) * static_cast<size_t>(n_[1]) + static_cast<size_t>(i[1])) * static_cast<size_t>(n_[0]) +
+               static_cast<size_t>(i[0]);
+    }
+
+    Point3 lo_;
+    double h_[3] = {0, 0, 0}, inv_[3] = {0, 0, 0};
+    int n_[3] = {0, 0, 0};
+    double margin_ = 0;
+    std::vector<uint8_t> clear_;
+};
+
+template <class F> void ClearanceGrid::build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells) {
+    clear_.clear();
+    if (bounds.empty()) return;
+    init(bounds, targetCells);
+    forEachTriangle([this](const Point3& a, const Point3& b, const Point3& c) { mark(a, b, c); });
+    finish();
+}
+
+}  // namespace littoral::render
