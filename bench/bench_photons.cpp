@@ -103,9 +103,8 @@ LoopResult speedOfLight(uint64_t photons, int threads) {
                     x = x + d * s;
                     m.add(x, d, Vec3{0, 0, 1}, w);
                     ++ev;
-                    double pdf;
                     const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
-                    d = hg.sample(d, u1, u2, u3, &pdf);
+                    d = hg.sample(d, u1, u2, u3, nullptr);
                     if (rng.uniform() >= albedo) break;
                 }
             }
