@@ -233,16 +233,31 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
     int& wraps = w.wraps;
     for (;;) {
         SurfaceHit h;
-        const bool hit = scene_.geometry().intersect(ray, &h);
+        bool hit;
         const Medium& md = scene_.media()[medium];
         if (md.scattering()) {
-            const double tMax = hit ? h.t : ir::kInfinity;
             // Segments that start at the sensor/probe or at the first scattering vertex are marched;
             // later ones get the collision estimate at their end (vertices counts the vertices so far).
             const bool marched = vertices < kMarchedSegments;
-            if (marched) L += beta * sunInScatter(ray, tMax, medium, rng);
-            const double uBand = rng.uniform(), uDist = rng.uniform();
-            const FreeFlight ff = md.sampleFreeFlight(ray, tMax, group_, uBand, uDist);
+            FreeFlight ff;
+            if (marched) {  // the march needs the whole segment to the surface
+                hit = scene_.geometry().intersect(ray, &h);
+                const double tMax = hit ? h.t : ray.tMax;
+                L += beta * sunInScatter(ray, tMax, medium, rng);
+                const double uBand = rng.uniform(), uDist = rng.uniform();
+                ff = md.sampleFreeFlight(ray, tMax, group_, uBand, uDist);
+            } else {
+                // The free flight first, then the geometry only up to it (as the photon pass
+                // does): a short segment in open water is answered by the clearance grid without
+                // Embree. The same numbers give the same result as tracing the whole segment: a
+                // surface before the collision depth is reached with weight T / P(no event).
+                const double uBand = rng.uniform(), uDist = rng.uniform();
+                ff = md.sampleFreeFlight(ray, ray.tMax, group_, uBand, uDist);
+                Ray limited = ray;
+                if (ff.scattered) limited.tMax = std::min(ray.tMax, ff.t);
+                hit = scene_.geometry().intersect(limited, &h);
+                if (hit) ff = md.sampleFreeFlight(ray, h.t, group_, uBand, uDist);
+            }
             beta *= ff.weight;
             if (ff.scattered) {
                 if (beta.isBlack() || ++vertices > config_.maxBounces) break;
@@ -267,9 +282,12 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
                 continue;
             }
             if (beta.isBlack()) break;
-        } else if (md.attenuating()) {
-            if (!hit) break;  // an infinite path through absorbing water carries nothing
-            beta *= md.transmittance(ray, h.t, group_);
+        } else {
+            hit = scene_.geometry().intersect(ray, &h);
+            if (md.attenuating()) {
+                if (!hit) break;  // an infinite path through absorbing water carries nothing
+                beta *= md.transmittance(ray, h.t, group_);
+            }
         }
         if (!hit) {
             L += beta * environment(ray.d, chain);
