@@ -63,8 +63,8 @@ float halfToFloat(uint16_t h) {
 
 namespace {
 double signNotZero(double v) { return v >= 0 ? 1.0 : -1.0; }
-uint32_t quantise(double v) {  // [-1, 1] -> 16 bits
-    return static_cast<uint32_t>(std::lround((std::clamp(v, -1.0, 1.0) * 0.5 + 0.5) * 65535.0));
+uint32_t quantise(double v) {  // [-1, 1] -> 16 bits, to nearest (the argument is >= 0: no lround call)
+    return static_cast<uint32_t>((std::clamp(v, -1.0, 1.0) * 0.5 + 0.5) * 65535.0 + 0.5);
 }
 double dequantise(uint32_t q) { return static_cast<double>(q) / 65535.0 * 2.0 - 1.0; }
 }  // namespace
