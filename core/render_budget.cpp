@@ -28,10 +28,10 @@ RenderMemory estimateRenderMemory(const ir::SceneIR& s, const std::string& onlyS
     for (const bool surface : {true, false}) {
         const uint64_t n = (surface ? s.render.surfacePhotons : s.render.volumePhotons).value_or(0);
         if (n == 0) continue;
-        const double each = photonRecordBytes(surface, s.render.bands.size());
+        const double each = photonBytesEach(surface, s.render.bands.size());
         m.items.push_back({surface ? MemoryItem::Kind::SurfacePhotons : MemoryItem::Kind::VolumePhotons, 0,
-                           kPhotonGridOverhead * each * static_cast<double>(n),
-                           fmt::format("{} {} photons ({:.0f} B each plus the search grid)", n,
+                           each * static_cast<double>(n),
+                           fmt::format("{} {} photons ({:.0f} B each with the search grid and its build buffers)", n,
                                        surface ? "surface" : "volume", each)});
     }
     for (const auto& it : m.items) m.total += it.bytes;

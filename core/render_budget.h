@@ -9,7 +9,7 @@
 // sensor adds about three more copies of its film (the encoded EXR, the ENVI band-sequential
 // copy and its bytes). Photon maps store photonRecordBytes() per photon (render/photon_map.h:
 // position, octahedral direction and one half-float power per band of the largest band group),
-// times kPhotonGridOverhead for the hash grid and the last chunk's overshoot.
+// with their grid and its build buffers (photonBytesEach).
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -21,12 +21,21 @@
 namespace littoral {
 
 inline constexpr int kPhotonGroupBandsMax = 16;      // render/spectral.h kMaxGroupBands
-inline constexpr double kPhotonGridOverhead = 1.3;
 // Bytes of one stored photon with `bands` bands per group: 12 (position) + 4 (direction) + 2 per
 // band, and 4 more (surface normal) on a surface photon.
 inline double photonRecordBytes(bool surface, size_t bands) {
     const double b = static_cast<double>(std::min<size_t>(std::max<size_t>(bands, 1), kPhotonGroupBandsMax));
     return (surface ? 20.0 : 16.0) + 2.0 * b;
+}
+// Peak bytes per photon of a map of n photons: the records with the pass's reserve (1/16 more,
+// render/photon_pass.cpp), the hash grid (one 4-byte bucket start per bucket, buckets the next power
+// of two above n: at most 8 B per photon) and the grid build's working buffers (bucket and slot
+// indices, 4 + 4 B, and a copy of the largest field, the 12 B position; render/photon_map.cpp).
+// Counting the build buffers for both maps overstates by 20 B per photon of the smaller map, which
+// is built after the other has released them: a safe side for a budget check.
+inline constexpr double kPhotonGridBytes = 8.0, kPhotonBuildBytes = 20.0;
+inline double photonBytesEach(bool surface, size_t bands) {
+    return photonRecordBytes(surface, bands) * (17.0 / 16.0) + kPhotonGridBytes + kPhotonBuildBytes;
 }
 
 struct MemoryItem {

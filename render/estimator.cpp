@@ -124,16 +124,16 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
                 // The maps of the largest band group must fit in the memory budget (the same
                 // estimate check-scene uses, core/render_budget.h).
                 static_assert(kMaxGroupBands == kPhotonGroupBandsMax);
-                const double sb = photonRecordBytes(true, s.bands.size()), vb = photonRecordBytes(false, s.bands.size());
-                const double need = kPhotonGridOverhead * (static_cast<double>(c.surfacePhotons) * sb +
-                                                           static_cast<double>(c.volumePhotons) * vb);
+                const double sb = photonBytesEach(true, s.bands.size()), vb = photonBytesEach(false, s.bands.size());
+                const double need = static_cast<double>(c.surfacePhotons) * sb + static_cast<double>(c.volumePhotons) * vb;
                 const double budget = static_cast<double>(memoryBudget());
                 if (need > budget)
                     r.fail(static_cast<double>(c.volumePhotons) * vb > static_cast<double>(c.surfacePhotons) * sb
                                ? "volume_photons"
                                : "surface_photons",
-                           fmt::format("{} surface and {} volume photons need {} ({:.0f} and {:.0f} bytes each, plus "
-                                       "the search grid), more than the memory budget of {} (--max-memory)",
+                           fmt::format("{} surface and {} volume photons need {} ({:.0f} and {:.0f} bytes each with "
+                                       "the search grid and its build buffers), more than the memory budget of {} "
+                                       "(--max-memory)",
                                        c.surfacePhotons, c.volumePhotons, formatBytes(need), sb, vb,
                                        formatBytes(budget)));
             }

@@ -66,17 +66,6 @@ struct ChunkResult {
 
 }  // namespace
 
-double photonMapBytes(const PhotonPassSettings& s, int bands) {
-    // Records, the grid (one 4-byte bucket start per photon, rounded up to a power of two: at most
-    // 2x), and one chunk of overshoot per map.
-    auto one = [&](uint64_t target, bool normals) {
-        if (target == 0) return 0.0;
-        const double n = static_cast<double>(target + kChunk * 8);
-        return n * static_cast<double>(PhotonMap::bytesPerPhoton(bands, normals)) + 2.0 * n * 4.0;
-    };
-    return one(s.surfaceTarget, true) + one(s.volumeTarget, false);
-}
-
 PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSettings& st) {
     const auto t0 = std::chrono::steady_clock::now();
     PhotonMaps maps;

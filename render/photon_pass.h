@@ -57,9 +57,6 @@ struct PhotonMaps {
     double seconds = 0;
 };
 
-// Bytes the pass's maps will need for the targets (records and grids), for the memory check.
-double photonMapBytes(const PhotonPassSettings& s, int bands);
-
 // Traces the photons of one band group. Warns if the emission cap is reached before a map is
 // full (it then holds what was stored).
 PhotonMaps tracePhotons(const Scene& scene, BandGroup group, const PhotonPassSettings& settings);
