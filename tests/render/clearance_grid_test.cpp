@@ -74,6 +74,15 @@ std::vector<Tri> randomTriangles() {
     return tris;
 }
 
+ClearanceGrid gridOver(const std::vector<Tri>& tris, int64_t cells) {
+    BBox3 box;
+    for (const Tri& t : tris)
+        for (const Point3& p : t) box.expand(p);
+    ClearanceGrid g;
+    g.build(box, [&](auto&& mark) { for (const Tri& t : tris) mark(t[0], t[1], t[2]); }, cells);
+    return g;
+}
+
 }  // namespace
 
 // A segment the grid calls clear must keep a positive distance from every triangle (checked by a
@@ -81,11 +90,7 @@ std::vector<Tri> randomTriangles() {
 // segments in open space clear (it must do something).
 TEST(ClearanceGrid, ClearSegmentsMissEveryTriangle) {
     const std::vector<Tri> tris = randomTriangles();
-    BBox3 box;
-    for (const Tri& t : tris)
-        for (const Point3& p : t) box.expand(p);
-    ClearanceGrid g;
-    g.build(box, [&](auto&& mark) { for (const Tri& t : tris) mark(t[0], t[1], t[2]); }, 20000);
+    const ClearanceGrid g = gridOver(tris, 20000);
     ASSERT_TRUE(g.built());
     int clear = 0, total = 0;
     double closest = 1e300;
@@ -111,11 +116,7 @@ TEST(ClearanceGrid, ClearSegmentsMissEveryTriangle) {
 // nearest occupied cell (occupied = clearance 0), capped.
 TEST(ClearanceGrid, ClearanceIsTheCappedChebyshevDistance) {
     const std::vector<Tri> tris = randomTriangles();
-    BBox3 box;
-    for (const Tri& t : tris)
-        for (const Point3& p : t) box.expand(p);
-    ClearanceGrid g;
-    g.build(box, [&](auto&& mark) { for (const Tri& t : tris) mark(t[0], t[1], t[2]); }, 30000);
+    const ClearanceGrid g = gridOver(tris, 30000);
     const int nx = g.cells(0), ny = g.cells(1), nz = g.cells(2);
     std::vector<std::array<int, 3>> occupied;
     for (int z = 0; z < nz; ++z)
