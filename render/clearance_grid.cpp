@@ -55,6 +55,7 @@ void ClearanceGrid::mark(const Point3& a, const Point3& b, const Point3& c) {
     int i0[3], i1[3];
     for (int k = 0; k < 3; ++k) {
         const double lo = std::min({a[k], b[k], c[k]}) - margin_, hi = std::max({a[k], b[k], c[k]}) + margin_;
+        if (!std::isfinite(lo) || !std::isfinite(hi)) return;  // Embree cannot hit such a triangle either
         i0[k] = static_cast<int>(std::clamp(std::floor((lo - lo_[k]) * inv_[k]), 0.0, n_[k] - 1.0));
         i1[k] = static_cast<int>(std::clamp(std::floor((hi - lo_[k]) * inv_[k]), 0.0, n_[k] - 1.0));
     }

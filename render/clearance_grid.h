@@ -12,6 +12,7 @@
 // cell(b); if the largest per-axis index difference is smaller than cell(a)'s clearance, every
 // one of those cells is empty, so the segment meets no triangle.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <vector>
@@ -70,7 +71,9 @@ private:
 
 template <class F> void ClearanceGrid::build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells) {
     clear_.clear();
-    if (bounds.empty()) return;
+    // No grid (every query answered by Embree) for an empty scene or non-finite bounds.
+    if (bounds.empty() || !std::isfinite(bounds.lo.x + bounds.lo.y + bounds.lo.z + bounds.hi.x + bounds.hi.y + bounds.hi.z))
+        return;
     init(bounds, targetCells);
     forEachTriangle([this](const Point3& a, const Point3& b, const Point3& c) { mark(a, b, c); });
     finish();
