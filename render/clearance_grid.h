@@ -30,14 +30,22 @@ public:
     // forEachTriangle(mark), where mark(a, b, c) is to be called for every world-space triangle.
     template <class F> void build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells = int64_t{1} << 18);
 
-    // True only if no triangle can meet the closed segment [a, b].
+    // True only if no triangle can meet the closed segment [a, b]: every cell of the box of cells
+    // between cell(a) and cell(b) is within Chebyshev distance d of cell(a), and within e of the
+    // midpoint's cell (about half of d); the segment is clear when d is below a's clearance or e
+    // below the midpoint cell's.
     bool segmentClear(const Point3& a, const Point3& b) const {
         if (clear_.empty()) return false;
-        int ia[3], ib[3];
+        int ia[3], ib[3], im[3];
         if (!cellOf(a, ia) || !cellOf(b, ib)) return false;
         int d = 0;
         for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(ia[k] - ib[k]));
-        return d < clear_[index(ia)];
+        if (d < clear_[index(ia)]) return true;
+        if (d == 0 || !cellOf((a + b) * 0.5, im)) return false;
+        int e = 0;
+        for (int k = 0; k < 3; ++k)
+            e = std::max({e, im[k] - std::min(ia[k], ib[k]), std::max(ia[k], ib[k]) - im[k]});
+        return e < clear_[index(im)];
     }
 
     bool built() const { return !clear_.empty(); }

@@ -108,7 +108,7 @@ TEST(ClearanceGrid, ClearSegmentsMissEveryTriangle) {
     EXPECT_GT(closest, 0.0);
     std::printf("%d of %d segments clear; closest approach of a clear segment %.3g m\n", clear, total, closest);
     // Cells about 0.37 m; 43 triangles mark a minority of them: well over a third of the short
-    // segments should be clear (0.67 when written; a broken transform gives 0).
+    // segments should be clear (0.74 when written; a broken transform gives 0).
     EXPECT_GT(clear, total / 3) << clear << " of " << total;
 }
 
