@@ -92,28 +92,25 @@ void ClearanceGrid::finish() {
                 d[at(x, y, z)] = static_cast<uint8_t>(std::min<int>(d[at(x, y, z)], run));
             }
         }
-    // Along y.
-    for (int z = 0; z < nz; ++z)
-        for (int y = 0; y < ny; ++y)
-            for (int x = 0; x < nx; ++x) {
-                int best = d[at(x, y, z)];
-                for (int dd = 1; dd < best; ++dd) {
-                    if (y - dd >= 0) best = std::min(best, std::max<int>(dd, d[at(x, y - dd, z)]));
-                    if (y + dd < ny) best = std::min(best, std::max<int>(dd, d[at(x, y + dd, z)]));
+    // f(c) = min over |dd| < f_in(c) of max(|dd|, f_in(c + dd along the axis)): an offset of dd or
+    // more cannot lower the value below dd.
+    auto along = [&](const std::vector<uint8_t>& in, std::vector<uint8_t>& out, int axis) {
+        const size_t stride = axis == 1 ? static_cast<size_t>(nx) : static_cast<size_t>(nx) * ny;
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x < nx; ++x) {
+                    const size_t i = at(x, y, z);
+                    const int c = axis == 1 ? y : z;
+                    int best = in[i];
+                    for (int dd = 1; dd < best; ++dd) {
+                        if (c - dd >= 0) best = std::min(best, std::max<int>(dd, in[i - dd * stride]));
+                        if (c + dd < n_[axis]) best = std::min(best, std::max<int>(dd, in[i + dd * stride]));
+                    }
+                    out[i] = static_cast<uint8_t>(best);
                 }
-                tmp[at(x, y, z)] = static_cast<uint8_t>(best);
-            }
-    // Along z.
-    for (int z = 0; z < nz; ++z)
-        for (int y = 0; y < ny; ++y)
-            for (int x = 0; x < nx; ++x) {
-                int best = tmp[at(x, y, z)];
-                for (int dd = 1; dd < best; ++dd) {
-                    if (z - dd >= 0) best = std::min(best, std::max<int>(dd, tmp[at(x, y, z - dd)]));
-                    if (z + dd < nz) best = std::min(best, std::max<int>(dd, tmp[at(x, y, z + dd)]));
-                }
-                d[at(x, y, z)] = static_cast<uint8_t>(best);
-            }
+    };
+    along(d, tmp, 1);
+    along(tmp, d, 2);
     clear_.swap(d);
 }
 

@@ -276,17 +276,13 @@ EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()
     rtcCommitScene(s.scene);
     // Every triangle where Embree places it: each mesh's own placement, then each instance.
     s.clearance.build(s.box, [&](auto&& mark) {
-        for (size_t mi = 0; mi < ir.meshes.size(); ++mi)
-            for (const auto& t : ir.meshes[mi].data.triangles) {
-                const auto& p = ir.meshes[mi].data.positions;
-                mark(p[t[0]], p[t[1]], p[t[2]]);
-            }
-        for (size_t ii = 0; ii < s.instances.size(); ++ii) {
-            const TriMesh& m = *s.meshes[s.instances[ii].mesh].mesh;
-            const int inst = static_cast<int>(ii);
+        auto placed = [&](int inst, const TriMesh& m) {  // inst -1: the mesh's own placement
             for (const auto& t : m.triangles)
                 mark(s.worldVertex(inst, m, t[0]), s.worldVertex(inst, m, t[1]), s.worldVertex(inst, m, t[2]));
-        }
+        };
+        for (const Impl::MeshRef& mr : s.meshes) placed(-1, *mr.mesh);
+        for (size_t ii = 0; ii < s.instances.size(); ++ii)
+            placed(static_cast<int>(ii), *s.meshes[s.instances[ii].mesh].mesh);
     });
 }
 

@@ -246,17 +246,9 @@ Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStr
                 L += beta * sunInScatter(ray, tMax, medium, rng);
                 const double uBand = rng.uniform(), uDist = rng.uniform();
                 ff = md.sampleFreeFlight(ray, tMax, group_, uBand, uDist);
-            } else {
-                // The free flight first, then the geometry only up to it (as the photon pass
-                // does): a short segment in open water is answered by the clearance grid without
-                // Embree. The same numbers give the same result as tracing the whole segment: a
-                // surface before the collision depth is reached with weight T / P(no event).
+            } else {  // the free flight first, then the geometry only up to it (the same result)
                 const double uBand = rng.uniform(), uDist = rng.uniform();
-                ff = md.sampleFreeFlight(ray, ray.tMax, group_, uBand, uDist);
-                Ray limited = ray;
-                if (ff.scattered) limited.tMax = std::min(ray.tMax, ff.t);
-                hit = scene_.geometry().intersect(limited, &h);
-                if (hit) ff = md.sampleFreeFlight(ray, h.t, group_, uBand, uDist);
+                ff = scene_.flightToSurface(ray, medium, group_, uBand, uDist, &h, &hit);
             }
             beta *= ff.weight;
             if (ff.scattered) {

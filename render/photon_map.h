@@ -14,8 +14,8 @@
 // The grid hashes cells of side `cellSize` (the search radius it was built for) into a table of
 // about as many buckets as photons, blocks of 4 x 4 x 4 cells to runs of 64 buckets (bucketOf);
 // photons are stored sorted by bucket, so a query walks the few bucket runs of the cells it
-// overlaps (each bucket once) and tests actual distances. Building
-// sorts by bucket with a counting sort whose order is fixed (it does not depend on threads).
+// overlaps (each bucket once) and tests actual distances. Building sorts by bucket with a
+// counting sort whose order is fixed (it does not depend on threads).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

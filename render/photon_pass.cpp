@@ -130,17 +130,9 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
             bool hit;
             const Medium& md = scene.media()[medium];
             if (md.scattering()) {
-                // The free flight first, then the geometry only up to it: a short ray in open water
-                // is answered by the clearance grid without Embree (render/clearance_grid.h), and
-                // one near a surface costs Embree a fraction of a full ray. If a surface comes first, the flight is
-                // sampled again to it with the same numbers (the same collision depth, now beyond
-                // the surface: the photon reaches it with weight T / P(no event)).
+                // The free flight first, then the geometry only up to it (Scene::flightToSurface).
                 const double uBand = rng.uniform(), uDist = rng.uniform();
-                FreeFlight ff = md.sampleFreeFlight(ray, ir::kInfinity, g, uBand, uDist);
-                Ray limited = ray;
-                if (ff.scattered) limited.tMax = ff.t;
-                hit = scene.geometry().intersect(limited, &h);
-                if (hit) ff = md.sampleFreeFlight(ray, h.t, g, uBand, uDist);
+                const FreeFlight ff = scene.flightToSurface(ray, medium, g, uBand, uDist, &h, &hit);
                 w *= ff.weight;
                 if (ff.scattered) {
                     if (w.isBlack() || ++events > st.maxBounces) return;

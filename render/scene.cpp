@@ -292,6 +292,17 @@ Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {
     return rho;
 }
 
+FreeFlight Scene::flightToSurface(const Ray& ray, int medium, BandGroup g, double uBand, double uDist, SurfaceHit* h,
+                                  bool* hit) const {
+    const Medium& md = media_[medium];
+    FreeFlight ff = md.sampleFreeFlight(ray, ray.tMax, g, uBand, uDist);
+    Ray limited = ray;
+    if (ff.scattered) limited.tMax = std::min(ray.tMax, ff.t);
+    *hit = geometry_->intersect(limited, h);
+    if (*hit) ff = md.sampleFreeFlight(ray, h->t, g, uBand, uDist);
+    return ff;
+}
+
 std::optional<Ray> Scene::wrapRay(const SurfaceHit& h, const Vec3& d) const {
     const ir::Domain& D = ir_.domain;
     const double Lx = D.x1 - D.x0, Ly = D.y1 - D.y0;

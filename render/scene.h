@@ -127,6 +127,15 @@ public:
     // nullopt if the hit is not on a domain edge (the wall mesh does not match the domain).
     std::optional<Ray> wrapRay(const SurfaceHit& h, const Vec3& d) const;
     static constexpr int kMaxWraps = 1024;
+
+    // Free flight along `ray` through scattering medium `medium` with the numbers uBand, uDist,
+    // sampled before the geometry is traced: Embree is asked only up to the collision depth (a
+    // short segment in open water is answered by the clearance grid, render/clearance_grid.h),
+    // and if a surface comes first the flight is sampled again to it with the same numbers (the
+    // same collision depth, now beyond the surface: reached with weight T / P(no event)). The
+    // result equals sampling up to the closest hit; *hit and *h tell the surface reached.
+    FreeFlight flightToSurface(const Ray& ray, int medium, BandGroup g, double uBand, double uDist, SurfaceHit* h,
+                               bool* hit) const;
     const ir::Domain& domain() const { return ir_.domain; }
     int insideMedium(int mesh) const { return meshInside_[mesh]; }
     int outsideMedium(int mesh) const { return meshOutside_[mesh]; }
