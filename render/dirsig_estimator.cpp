@@ -38,6 +38,7 @@
 #include "core/frame.h"
 #include "core/units.h"
 #include "render/estimator.h"
+#include "render/interaction.h"
 #include "render/photon_pass.h"
 #include "render/sampling.h"
 
@@ -70,8 +71,9 @@ constexpr int kCoverageProbes = 16;
 class DirsigEstimator final : public Estimator {
 public:
     DirsigEstimator(const Scene& scene, const RenderConfig& config, BandGroup group, const PhotonMaps* maps, int pass)
-        : Estimator(scene, config, group), maps_(maps),
-          rS_(config.radiusAt(config.surfaceRadius, pass)), rV_(config.radiusAt(config.volumeRadius, pass)) {}
+        : Estimator(scene, config, group, effectiveMedia(scene, config, maps)), maps_(maps),
+          rS_(config.radiusAt(config.surfaceRadius, pass)), rV_(config.radiusAt(config.volumeRadius, pass)),
+          step_(scene, group, TransportMode::Radiance, &sun_, config.maxSpecularDepth, InterfaceDraws{false, true}) {}
 
     Spec Li(const Ray& ray, int medium, RandomStream& rng) const override {
         PathState st;
@@ -83,16 +85,24 @@ public:
         PathState st;
         st.medium = medium;
         st.splits = 1;
-        st.chain = chainAfterVertex(medium);
+        st.chain = sun_.chainAfterVertex(medium);
         return trace(ray, st, rng);
     }
 
 private:
     bool mediumPM(int medium) const { return medium > 0 && config_.mediumPM[static_cast<size_t>(medium - 1)] && maps_; }
-    bool effectiveExtinction(int medium) const override { return config_.effectiveScattering && mediumPM(medium); }
-    Spec transmittance(const Ray& ray, double t, int medium) const {
-        return scene_.media()[medium].transmittance(ray, t, group_, effectiveExtinction(medium));
+    // Per medium: transmittance uses the effective extinction a + b (1 - f) (the dissertation's
+    // effective scattering coefficient) for MediumPM media when render.photons.effective_scattering
+    // is set, so that the direct sun, the camera rays and the volume map (which then stores no
+    // forward-cone events) agree.
+    static std::vector<bool> effectiveMedia(const Scene& scene, const RenderConfig& config, const PhotonMaps* maps) {
+        std::vector<bool> e(scene.media().size(), false);
+        for (size_t m = 1; m < e.size() && m - 1 < config.mediumPM.size(); ++m)
+            e[m] = config.effectiveScattering && config.mediumPM[m - 1] && maps;
+        return e;
     }
+    bool effectiveExtinction(int medium) const { return sun_.effectiveExtinction(medium); }
+    Spec transmittance(const Ray& ray, double t, int medium) const { return sun_.transmittance(ray, t, medium); }
     // MediumPM: in-scattered radiance along ray.o + t ray.d, t in [0, tMax), from the volume map.
     // In-scattered radiance along ray over [0, tMax) in `medium` from the volume map (beam
     // estimate). endNormal / startNormal: the surfaces that end and start the segment (zero when
@@ -108,12 +118,9 @@ private:
     Spec traceHit(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st, RandomStream& rng) const;
     // traceHit() for a segment that does not end at a periodic wall.
     Spec traceSegment(const Ray& ray, bool found, const SurfaceHit& h, const PathState& st, RandomStream& rng) const;
+    // The Fresnel solver at a smooth or rough interface (the shared step, render/interaction.h).
     Spec shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                         RandomStream& rng) const;
-    // Rough (Cox–Munk) interfaces under the Fresnel solver: sun next-event estimation with MIS and
-    // one sampled direction per event.
-    Spec shadeRoughInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
-                             RandomStream& rng) const;
     Spec shadeDiffuse(const SurfaceHit& h, const Vec3& wo, const PathState& st, RandomStream& rng) const;
 
     // Calls f(shift) for the domain-period shifts under which a query reaching from lo to hi must
@@ -125,6 +132,7 @@ private:
 
     const PhotonMaps* maps_;
     double rS_, rV_;  // search radii of this pass
+    InteractionStep step_;
 };
 
 template <class F> void DirsigEstimator::forEachPeriodicImage(const Point3& lo, const Point3& hi, F&& f) const {
@@ -271,7 +279,7 @@ Spec DirsigEstimator::trace(const Ray& ray, const PathState& st, RandomStream& r
 
 Spec DirsigEstimator::traceHit(const Ray& ray0, bool found0, const SurfaceHit& h0, const PathState& st0,
                                RandomStream& rng) const {
-    if (!found0 || !scene_.material(h0).isPeriodicWall()) return traceSegment(ray0, found0, h0, st0, rng);
+    if (!found0 || !scene_.isPeriodicWall(h0)) return traceSegment(ray0, found0, h0, st0, rng);
     // Periodic walls are followed in a loop, not by recursion (a grazing ray in a small periodic
     // domain wraps hundreds of times, and a stack frame per wrap overflowed worker threads' stacks
     // under the sanitizers): L = sum over the wrapped segments of their in-scatter times the
@@ -281,13 +289,12 @@ Spec DirsigEstimator::traceHit(const Ray& ray0, bool found0, const SurfaceHit& h
     SurfaceHit h = h0;
     PathState st = st0;
     bool found = true;
-    while (found && scene_.material(h).isPeriodicWall()) {
-        const auto next = scene_.wrapRay(h, ray.d);
+    while (found && scene_.isPeriodicWall(h)) {
+        const auto next = step_.wrap(h, ray.d, &st.wraps);
         if (mediumPM(st.medium)) L += T * volumeInScatter(ray, h.t, st.medium, {0, 0, 0}, st.startNormal);
-        if (!next || st.wraps >= Scene::kMaxWraps) return L;
+        if (!next) return L;
         T *= transmittance(ray, h.t, st.medium);
         st.chain.hitSurface();
-        ++st.wraps;
         st.startNormal = Normal3{0, 0, 0};
         ray = *next;
         found = scene_.geometry().intersect(ray, &h);
@@ -303,12 +310,11 @@ Spec DirsigEstimator::traceSegment(const Ray& ray, bool found, const SurfaceHit&
                                      : Spec(group_.count);
         // An infinitely long path through an attenuating medium carries nothing more.
         if (medium.attenuating()) return L;
-        return L + environment(ray.d, st.chain);
+        return L + sun_.environment(ray.d, st.chain);
     }
-    const MaterialData& m = scene_.material(h);
     // A Classic sky ray ends at an opaque surface with nothing (unless the medium it crossed
     // in-scatters): settled before any BxDF or path state is built (a third of a Classic frame's rays).
-    if (st.skyOnly && m.isOpaque() && !mediumPM(st.medium)) return Spec(group_.count);
+    if (st.skyOnly && !(scene_.bxdfFlags(h) & kTransmission) && !mediumPM(st.medium)) return Spec(group_.count);
     // The segment's medium: an interface knows its own sides (trusted over the carried medium);
     // an opaque surface is reached through whatever medium the ray carries.
     const BxDF bxdf = scene_.bxdf(h, group_);
@@ -317,9 +323,12 @@ Spec DirsigEstimator::traceSegment(const Ray& ray, bool found, const SurfaceHit&
     PathState s2 = st;
     s2.medium = segMedium;
     s2.chain.hitSurface();
-    if (bxdf.isDelta()) Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
-    else if (bxdf.isGlossy()) Lsurf = shadeRoughInterface(ray, h, bxdf, s2, rng);
-    else if (!st.skyOnly) Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
+    if (bxdf.isDelta() || bxdf.isGlossy()) {
+        Lsurf = shadeInterface(ray, h, bxdf, s2, rng);
+    } else if (!st.skyOnly) {
+        InteractionStep::requireDiffuse(bxdf);
+        Lsurf = shadeDiffuse(h, -ray.d, s2, rng);
+    }
     if (!mediumPM(segMedium)) {
         // No in-scatter: the surface's radiance through the segment (nothing to do in the air).
         if (!scene_.media()[segMedium].attenuating() || Lsurf.isBlack()) return Lsurf;
@@ -332,68 +341,27 @@ Spec DirsigEstimator::traceSegment(const Ray& ray, bool found, const SurfaceHit&
 
 Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
                                      RandomStream& rng) const {
-    Spec L(group_.count);
-    if (st.specularDepth >= config_.maxSpecularDepth) return L;
-    const int mOther = scene_.farMedium(h);
+    // Smooth interfaces: the first `splits` events trace both lobes with their Fresnel weights
+    // (deterministic, noise-free images of smooth water), later ones one lobe chosen with
+    // probability r_f. Rough ones: the sun by next-event estimation with MIS, then one sampled
+    // direction (Walter et al. 2007). Classic sky rays pass interfaces the same way, with the disc
+    // counted by the chain rules.
     PathState next = st;
-    next.specularDepth = st.specularDepth + 1;
-
-    const Frame frame = scene_.shadingFrame(h);  // +z on the mesh's outside
-    const Vec3 wo = frame.toLocal(-ray.d);
-    if (std::abs(wo.z) < 1e-12) {
-        // Exactly tangent to the face: r_f = 1 at grazing incidence and the mirror direction is
-        // the ray's own, so it continues unchanged (the Fresnel weights would be 0 * inf).
-        next.chain.reflected = true;
-        next.startNormal = h.ng;
-        return trace(spawnRay(h.p, h.ng, ray.d), next, rng);
-    }
-    auto follow = [&](const BSDFSample& s, double weight, PathState ps) {
-        ps.medium = s.isTransmission() ? mOther : st.medium;
+    const Interaction it = step_.atInterface(ray, h, bxdf, st.chain, &next.specularDepth, st.splits, rng);
+    Spec L = bxdf.isGlossy() ? it.sun : Spec(group_.count);
+    if (it.kind == Interaction::Kind::Ended) return L;
+    if (it.kind == Interaction::Kind::Split) next.splits = st.splits - 1;
+    const int n = it.kind == Interaction::Kind::Split ? 2 : 1;
+    for (int k = 0; k < n; ++k) {
+        const Continuation& c = it.out[k];
+        if (!(c.weight > 0)) continue;
+        PathState ps = next;
+        ps.medium = c.medium;
+        ps.chain = c.chain;
         ps.startNormal = h.ng;
-        if (s.isTransmission()) ++ps.chain.transmissions;
-        else ps.chain.reflected = true;
-        const Vec3 wi = frame.toWorld(s.wi);  // orthonormal frame: unit to rounding
-        return trace(spawnRay(h.p, h.ng, wi), ps, rng) * weight;
-    };
-    BSDFSample r, t;
-    bool canTransmit = false;
-    if (st.splits > 0 && bxdf.specularPair(wo, TransportMode::Radiance, &r, &t, &canTransmit)) {
-        // Deterministic split: L = r_f L_r + T_f (n_o/n_t)^2 L_t (Eq. 4.2 weights, n^2 law).
-        next.splits = st.splits - 1;
-        const double wr = r.f * std::abs(r.wi.z);
-        if (wr > 0) L += follow(r, wr, next);
-        if (canTransmit) {
-            const double wt = t.f * std::abs(t.wi.z);
-            if (wt > 0) L += follow(t, wt, next);
-        }
-        return L;
+        L += trace(c.ray, ps, rng) * c.weight;
     }
-    const auto s = bxdf.sample(wo, rng.uniform(), Vec2{rng.uniform(), rng.uniform()}, TransportMode::Radiance);
-    if (!s || s->pdf <= 0) return L;
-    return follow(*s, s->f * std::abs(s->wi.z) / s->pdf, next);
-}
-
-Spec DirsigEstimator::shadeRoughInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const PathState& st,
-                                          RandomStream& rng) const {
-    Spec L(group_.count);
-    if (st.specularDepth >= config_.maxSpecularDepth) return L;
-    const Frame frame = scene_.shadingFrame(h);
-    const Vec3 wo = frame.toLocal(-ray.d);
-    // The sun by next-event estimation on the air side (MIS against BSDF sampling), then one
-    // direction sampled from the microfacet BxDF (Walter et al. 2007). Classic sky rays pass the
-    // interface the same way (as they pass smooth ones, with the disc counted by the chain rules).
-    int neeSide = 0;
-    L += glossySun(h, frame, bxdf, wo, st.chain, rng, &neeSide);
-    const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-    const auto s = bxdf.sample(wo, uc, Vec2{u1, u2}, TransportMode::Radiance);
-    if (!s || !(s->pdf > 0)) return L;
-    PathState next = st;
-    next.specularDepth = st.specularDepth + 1;
-    next.medium = s->isTransmission() ? scene_.farMedium(h) : st.medium;
-    next.chain = chainAfterGlossy(st.chain, *s, neeSide);
-    next.startNormal = h.ng;
-    const Vec3 wi = normalize(frame.toWorld(s->wi));
-    return L + trace(spawnRay(h.p, h.ng, wi), next, rng) * (s->f * std::abs(s->wi.z) / s->pdf);
+    return L;
 }
 
 Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, const PathState& st,
@@ -411,7 +379,7 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     }
 
     // Direct sun: Lambertian radiance r E_sun cos(theta_s) / pi.
-    const SunBeam sun = sunBeam(h.p, h.ng, n, st.medium, rng);
+    const SunBeam sun = sun_.sample(h.p, h.ng, n, st.medium, rng);
     if (sun.valid) L += rho * sun.E * (std::max(0.0, dot(sun.toSun, n)) * kInvPi);
 
     // Sky (Classic) or sky plus background (Generic): BxDF importance sampling, for which
@@ -423,7 +391,7 @@ Spec DirsigEstimator::shadeDiffuse(const SurfaceHit& h, const Vec3& woWorld, con
     next.specularDepth = st.specularDepth;
     next.splits = 1;
     next.wraps = st.wraps;
-    next.chain = chainAfterVertex(st.medium);
+    next.chain = sun_.chainAfterVertex(st.medium);
     next.skyOnly = classic;
     next.startNormal = n;
     // The first diffuse vertex of a path integrates its hemisphere with N stratified rays; deeper

@@ -95,6 +95,10 @@ struct EmbreeScene::Impl {
         if (device) rtcReleaseDevice(device);
     }
 
+    // Attaches g to the top-level scene (releasing the caller's reference) and sizes the id maps.
+    unsigned attach(RTCGeometry g);
+    void addMesh(const ir::Mesh& mesh, size_t mi);
+    void addInstance(const ir::SceneIR& ir, size_t ii);
     RTCGeometry makeTriangles(const TriMesh& m) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -187,6 +191,104 @@ struct EmbreeScene::Impl {
     }
 };
 
+namespace {
+// An instance's linear part must be finite and well-conditioned: Embree asserts (and rays lose
+// their precision) on singular or extreme transforms. Allowed: every column length in
+// [1e-6, 1e6] and |det R| at least 1e-6 times the product of the column lengths (no two columns
+// within about 1e-6 rad of a common plane).
+void checkTransform(const ir::Instance& in, size_t ii) {
+    const double* R = in.rotation;
+    for (int k = 0; k < 9; ++k)
+        if (!std::isfinite(R[k]))
+            throw InputError(fmt::format("instances[{}] (mesh '{}'): rotation element {} is {}, not a finite number", ii,
+                                         in.mesh, k, R[k]));
+    if (!std::isfinite(in.translation.x) || !std::isfinite(in.translation.y) || !std::isfinite(in.translation.z))
+        throw InputError(fmt::format("instances[{}] (mesh '{}'): the translation is not finite", ii, in.mesh));
+    const Vec3 c0{R[0], R[3], R[6]}, c1{R[1], R[4], R[7]}, c2{R[2], R[5], R[8]};
+    const double l0 = length(c0), l1 = length(c1), l2 = length(c2);
+    for (double l : {l0, l1, l2})
+        if (!(l >= 1e-6 && l <= 1e6))
+            throw InputError(fmt::format("instances[{}] (mesh '{}'): a column of the rotation has length {}; allowed "
+                                         "[1e-6, 1e6] (scale)",
+                                         ii, in.mesh, l));
+    const double det = dot(c0, cross(c1, c2));
+    if (!(std::abs(det) >= 1e-6 * l0 * l1 * l2))
+        throw InputError(fmt::format("instances[{}] (mesh '{}'): the rotation is singular (determinant {} for column "
+                                     "lengths {}, {}, {}); it must map 3-D space onto itself",
+                                     ii, in.mesh, det, l0, l1, l2));
+}
+}  // namespace
+
+unsigned EmbreeScene::Impl::attach(RTCGeometry g) {
+    const unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    if (geomToMesh.size() <= id) {
+        geomToMesh.resize(id + 1, -1);
+        geomToInstance.resize(id + 1, -1);
+    }
+    return id;
+}
+
+void EmbreeScene::Impl::addMesh(const ir::Mesh& mesh, size_t mi) {
+    const TriMesh& m = mesh.data;
+    meshes[mi].mesh = &m;
+    meshes[mi].normal.resize(m.triangles.size());
+    meshes[mi].offset.resize(m.triangles.size());
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+        const auto& t = m.triangles[f];
+        for (int k = 0; k < 3; ++k)
+            if (t[k] >= m.positions.size())
+                throw InputError(fmt::format("mesh '{}': triangle {} references vertex {} of {}", mesh.name, f, t[k],
+                                             m.positions.size()));
+        const Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+        const double len = length(n);
+        if (!(len > 0)) log::debug("mesh '{}': triangle {} is degenerate (zero area)", mesh.name, f);
+        meshes[mi].normal[f] = len > 0 ? n / len : Vec3{0, 0, 1};
+        meshes[mi].offset[f] = dot(meshes[mi].normal[f], m.positions[t[0]]);
+    }
+    if (m.triangles.empty()) return;
+    geomToMesh[attach(makeTriangles(m))] = static_cast<int>(mi);
+    box.expand(m.bounds());
+    triangles += m.triangles.size();
+}
+
+void EmbreeScene::Impl::addInstance(const ir::SceneIR& ir, size_t ii) {
+    const ir::Instance& in = ir.instances[ii];
+    int mi = -1;
+    for (size_t k = 0; k < ir.meshes.size(); ++k)
+        if (ir.meshes[k].name == in.mesh) mi = static_cast<int>(k);
+    if (mi < 0) throw InputError(fmt::format("instances[{}]: unknown mesh '{}'", ii, in.mesh));
+    checkTransform(in, ii);
+    Xform x;
+    std::copy(in.rotation, in.rotation + 9, x.R);
+    x.t = in.translation;
+    x.mesh = mi;
+    instances.push_back(x);
+    const TriMesh& m = ir.meshes[mi].data;
+    if (m.triangles.empty()) return;
+    if (!meshScenes[mi]) {
+        RTCScene sub = rtcNewScene(device);
+        rtcSetSceneFlags(sub, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(sub, RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry g = makeTriangles(m);
+        rtcAttachGeometry(sub, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(sub);
+        meshScenes[mi] = sub;
+    }
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, meshScenes[mi]);
+    rtcSetGeometryTimeStepCount(g, 1);
+    const float xf[12] = {float(x.R[0]), float(x.R[1]), float(x.R[2]), float(x.t.x),
+                          float(x.R[3]), float(x.R[4]), float(x.R[5]), float(x.t.y),
+                          float(x.R[6]), float(x.R[7]), float(x.R[8]), float(x.t.z)};
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
+    rtcCommitGeometry(g);
+    geomToInstance[attach(g)] = static_cast<int>(ii);
+    for (uint32_t vi = 0; vi < m.positions.size(); ++vi) box.expand(worldVertex(static_cast<int>(ii), m, vi));
+    triangles += m.triangles.size();
+}
+
 EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
     s.device = rtcNewDevice(nullptr);
@@ -197,82 +299,10 @@ EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()
     // water volumes must not leak).
     rtcSetSceneFlags(s.scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_HIGH);
-
     s.meshes.resize(ir.meshes.size());
     s.meshScenes.assign(ir.meshes.size(), nullptr);
-    for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
-        const TriMesh& m = ir.meshes[mi].data;
-        s.meshes[mi].mesh = &m;
-        s.meshes[mi].normal.resize(m.triangles.size());
-        s.meshes[mi].offset.resize(m.triangles.size());
-        for (size_t f = 0; f < m.triangles.size(); ++f) {
-            const auto& t = m.triangles[f];
-            for (int k = 0; k < 3; ++k)
-                if (t[k] >= m.positions.size())
-                    throw InputError(fmt::format("mesh '{}': triangle {} references vertex {} of {}",
-                                                 ir.meshes[mi].name, f, t[k], m.positions.size()));
-            const Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
-            const double len = length(n);
-            if (!(len > 0))
-                log::debug("mesh '{}': triangle {} is degenerate (zero area)", ir.meshes[mi].name, f);
-            s.meshes[mi].normal[f] = len > 0 ? n / len : Vec3{0, 0, 1};
-            s.meshes[mi].offset[f] = dot(s.meshes[mi].normal[f], m.positions[t[0]]);
-        }
-        if (m.triangles.empty()) continue;
-        RTCGeometry g = s.makeTriangles(m);
-        const unsigned id = rtcAttachGeometry(s.scene, g);
-        rtcReleaseGeometry(g);
-        if (s.geomToMesh.size() <= id) {
-            s.geomToMesh.resize(id + 1, -1);
-            s.geomToInstance.resize(id + 1, -1);
-        }
-        s.geomToMesh[id] = static_cast<int>(mi);
-        s.box.expand(m.bounds());
-        s.triangles += m.triangles.size();
-    }
-
-    for (size_t ii = 0; ii < ir.instances.size(); ++ii) {
-        const ir::Instance& in = ir.instances[ii];
-        int mi = -1;
-        for (size_t k = 0; k < ir.meshes.size(); ++k)
-            if (ir.meshes[k].name == in.mesh) mi = static_cast<int>(k);
-        if (mi < 0) throw InputError(fmt::format("instances[{}]: unknown mesh '{}'", ii, in.mesh));
-        Impl::Xform x;
-        std::copy(in.rotation, in.rotation + 9, x.R);
-        x.t = in.translation;
-        x.mesh = mi;
-        s.instances.push_back(x);
-        const TriMesh& m = ir.meshes[mi].data;
-        if (m.triangles.empty()) continue;
-        if (!s.meshScenes[mi]) {
-            RTCScene sub = rtcNewScene(s.device);
-            rtcSetSceneFlags(sub, RTC_SCENE_FLAG_ROBUST);
-            rtcSetSceneBuildQuality(sub, RTC_BUILD_QUALITY_HIGH);
-            RTCGeometry g = s.makeTriangles(m);
-            rtcAttachGeometry(sub, g);
-            rtcReleaseGeometry(g);
-            rtcCommitScene(sub);
-            s.meshScenes[mi] = sub;
-        }
-        RTCGeometry g = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(g, s.meshScenes[mi]);
-        rtcSetGeometryTimeStepCount(g, 1);
-        const float xf[12] = {float(x.R[0]), float(x.R[1]), float(x.R[2]), float(x.t.x),
-                              float(x.R[3]), float(x.R[4]), float(x.R[5]), float(x.t.y),
-                              float(x.R[6]), float(x.R[7]), float(x.R[8]), float(x.t.z)};
-        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xf);
-        rtcCommitGeometry(g);
-        const unsigned id = rtcAttachGeometry(s.scene, g);
-        rtcReleaseGeometry(g);
-        if (s.geomToMesh.size() <= id) {
-            s.geomToMesh.resize(id + 1, -1);
-            s.geomToInstance.resize(id + 1, -1);
-        }
-        s.geomToInstance[id] = static_cast<int>(ii);
-        for (uint32_t vi = 0; vi < m.positions.size(); ++vi)
-            s.box.expand(s.worldVertex(static_cast<int>(ii), m, vi));
-        s.triangles += m.triangles.size();
-    }
+    for (size_t mi = 0; mi < ir.meshes.size(); ++mi) s.addMesh(ir.meshes[mi], mi);
+    for (size_t ii = 0; ii < ir.instances.size(); ++ii) s.addInstance(ir, ii);
     rtcCommitScene(s.scene);
     // Every triangle where Embree places it: each mesh's own placement, then each instance.
     s.clearance.build(s.box, [&](auto&& mark) {

@@ -35,6 +35,7 @@
 #include "core/stats.h"
 #include "core/units.h"
 #include "render/estimator.h"
+#include "render/interaction.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -75,9 +76,10 @@ bool roulette(Spec& beta, int vertices, RandomStream& rng, bool exempt) {
 class PathEstimator final : public Estimator {
 public:
     PathEstimator(const Scene& scene, const RenderConfig& config, BandGroup group)
-        : Estimator(scene, config, group) {
+        : Estimator(scene, config, group),
+          step_(scene, group, TransportMode::Radiance, &sun_, config.maxSpecularDepth, InterfaceDraws{true, false}) {
         for (size_t m = 0; m < scene.media().size(); ++m)
-            sunGuide_.push_back(scene.media()[m].scattering() ? refractedSunDirection(static_cast<int>(m))
+            sunGuide_.push_back(scene.media()[m].scattering() ? sun_.refractedDirection(static_cast<int>(m))
                                                                : std::nullopt);
     }
 
@@ -89,7 +91,7 @@ public:
     Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const override {
         Walk w;
         w.splits = 1;
-        return trace(ray, medium, chainAfterVertex(medium), w, rng);
+        return trace(ray, medium, sun_.chainAfterVertex(medium), w, rng);
     }
 
 private:
@@ -100,11 +102,30 @@ private:
         int vertices = 0, specular = 0, wraps = 0, splits = 0;
     };
     Spec trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const;
+    // A path in flight: its ray, medium, sun chain and counters, the radiance gathered so far and
+    // the throughput.
+    struct PathState {
+        Ray ray;
+        int medium;
+        SunChain chain;
+        Walk w;
+        Spec L, beta;
+    };
+    enum class Flight { Scattered, Reached, Ended };  // Reached: the surface *h if *hit, else escaped
+    // The segment from s.ray to the next medium collision (sun estimates, roulette and the new
+    // direction: Scattered) or to the surface or the sky (Reached); Ended if the path ends.
+    Flight fly(PathState& s, SurfaceHit* h, bool* hit, RandomStream& rng) const;
+    // The event at surface h (walls, interfaces, diffuse vertices); false if the path ends there.
+    bool atSurface(PathState& s, const SurfaceHit& h, RandomStream& rng) const;
+    // A diffuse vertex: the sun by next-event estimation, roulette, and a direction from the BxDF
+    // mixed with the sun guide in scattering water. False if the path ends.
+    bool diffuseVertex(PathState& s, const SurfaceHit& h, const BxDF& bxdf, RandomStream& rng) const;
     bool nearSun(int medium, const Vec3& d) const {
         const auto& g = sunGuide_[medium];
         return g && dot(*g, d) > std::cos(kNearSunDeg * kPi / 180.0);
     }
 
+    InteractionStep step_;
     std::vector<std::optional<Vec3>> sunGuide_;  // per medium: toward the refracted sun (scattering media)
     // The direction a path leaves a scattering event in (sampled, with its per-band weight p / pdf).
     // With the sun up, a fraction kSunGuide of the directions is drawn from the phase function
@@ -154,22 +175,22 @@ Spec PathEstimator::sunScattered(const Point3& x, int layer, const Vec3& dir, in
                  u3 = rng.uniform();
     const Normal3 none{0, 0, 0};
     if (!md.forwardPeaked()) {
-        const SunBeam sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
+        const SunBeam sun = sun_.sample(x, none, Vec3{0, 0, 0}, medium, rng);
         // Light travelling along -toSun scatters into -dir (toward the ray's origin).
         return sun.valid ? md.phase(layer, group_, -sun.toSun, -dir) * sun.E : Spec(group_.count);
     }
     SunBeam sun;
     if (us < 0.5) {
-        sun = sunBeam(x, none, Vec3{0, 0, 0}, medium, rng);
+        sun = sun_.sample(x, none, Vec3{0, 0, 0}, medium, rng);
     } else {
         // The disc strategy's numbers (two, and two more under a rough interface): the disc point
         // is shared by both strategies, which differ in how the direction toward it is chosen.
         const double d1 = rng.uniform(), d2 = rng.uniform();
-        if (roughSun(medium)) rng.uniform(), rng.uniform();
+        if (sun_.roughAbove(medium)) rng.uniform(), rng.uniform();
         // A direction toward the light w with density p(angle(w, dir)): light arriving along -w
         // scatters into -dir at that same angle.
         const Vec3 w = md.sampleAround(layer, group_, dir, u0, u1, u2, u3);
-        sun = sunAlong(x, none, w, medium, Vec2{d1, d2});
+        sun = sun_.along(x, none, w, medium, Vec2{d1, d2});
     }
     if (!sun.valid) return Spec(group_.count);
     const double pMix = md.pdfAround(layer, group_, dir, sun.toSun);
@@ -227,169 +248,133 @@ Spec PathEstimator::sunInScatter(const Ray& ray, double tMax, int medium, Random
 
 Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const {
     const int nb = group_.count;
-    Spec L(nb), beta(nb, 1.0);
-    int& vertices = w.vertices;
-    int& specular = w.specular;
-    int& wraps = w.wraps;
+    PathState s{ray, medium, chain, w, Spec(nb), Spec(nb, 1.0)};
     for (;;) {
         SurfaceHit h;
-        bool hit;
-        const Medium& md = scene_.media()[medium];
-        if (md.scattering()) {
-            // Segments that start at the sensor/probe or at the first scattering vertex are marched;
-            // later ones get the collision estimate at their end (vertices counts the vertices so far).
-            const bool marched = vertices < kMarchedSegments;
-            FreeFlight ff;
-            if (marched) {  // the march needs the whole segment to the surface
-                hit = scene_.geometry().intersect(ray, &h);
-                const double tMax = hit ? h.t : ray.tMax;
-                L += beta * sunInScatter(ray, tMax, medium, rng);
-                const double uBand = rng.uniform(), uDist = rng.uniform();
-                ff = md.sampleFreeFlight(ray, tMax, group_, uBand, uDist);
-            } else {  // the free flight first, then the geometry only up to it (the same result)
-                const double uBand = rng.uniform(), uDist = rng.uniform();
-                ff = scene_.flightToSurface(ray, medium, group_, uBand, uDist, &h, &hit);
-            }
-            beta *= ff.weight;
-            if (ff.scattered) {
-                if (beta.isBlack() || ++vertices > config_.maxBounces) break;
-                const Point3 x = ray.at(ff.t);
-                if (!marched) {
-                    // Collision estimator of the sun scattered here toward the previous vertex.
-                    L += beta * sunScattered(x, ff.layer, ray.d, medium, rng);
-                } else {
-                    for (int k = 0; k < kSunScatterDims; ++k) rng.uniform();
-                }
-                // Roulette before the new direction is sampled: a direction guided toward the sun
-                // (sampleContinuation) gets a small weight on purpose, to be spent on the sun
-                // estimate at its next vertex; rouletting it first would restore the weight of the
-                // rare survivor and undo the guide (measured: 1000x outliers in Lu under a shading
-                // instrument).
-                if (!roulette(beta, vertices, rng, nearSun(medium, ray.d))) break;
-                Spec w;
-                const Vec3 wi = sampleContinuation(md, medium, ff.layer, ray.d, rng, &w);
-                beta *= w;
-                ray = Ray{x, wi};
-                chain = chainAfterVertex(medium);
-                continue;
-            }
-            if (beta.isBlack()) break;
-        } else {
-            hit = scene_.geometry().intersect(ray, &h);
-            if (md.attenuating()) {
-                if (!hit) break;  // an infinite path through absorbing water carries nothing
-                beta *= md.transmittance(ray, h.t, group_);
-            }
-        }
+        bool hit = false;
+        const Flight f = fly(s, &h, &hit, rng);
+        if (f == Flight::Ended) break;
+        if (f == Flight::Scattered) continue;
         if (!hit) {
-            L += beta * environment(ray.d, chain);
+            s.L += s.beta * sun_.environment(s.ray.d, s.chain);
             break;
         }
-        chain.hitSurface();
-        const MaterialData& m = scene_.material(h);
-        if (m.isPeriodicWall()) {
-            const auto next = scene_.wrapRay(h, ray.d);
-            if (!next || ++wraps > Scene::kMaxWraps) break;
-            ray = *next;
-            continue;
-        }
-        const BxDF bxdf = scene_.bxdf(h, group_);
-        if (bxdf.isGlossy()) {
-            // Rough interface: the sun by next-event estimation (MIS against BSDF sampling), then
-            // one direction sampled from the BxDF.
-            if (++specular > config_.maxSpecularDepth) break;
-            const Frame frame = scene_.shadingFrame(h);
-            const Vec3 wo = frame.toLocal(-ray.d);
-            int neeSide = 0;
-            L += beta * glossySun(h, frame, bxdf, wo, chain, rng, &neeSide);
-            const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-            const auto s = bxdf.sample(wo, uc, Vec2{u1, u2}, TransportMode::Radiance);
-            if (!s || !(s->pdf > 0)) break;
-            beta *= s->f * std::abs(s->wi.z) / s->pdf;
-            chain = chainAfterGlossy(chain, *s, neeSide);
-            medium = s->isTransmission() ? scene_.farMedium(h) : scene_.nearMedium(h);
-            ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(s->wi)));
-            continue;
-        }
-        if (bxdf.isDelta()) {
-            if (++specular > config_.maxSpecularDepth) break;
-            const Frame frame = scene_.shadingFrame(h);
-            const Vec3 wo = frame.toLocal(-ray.d);
-            const double uc = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-            if (std::abs(wo.z) < 1e-12) {  // tangent: continues unchanged (see the dirsig estimator)
-                chain.reflected = true;
-                ray = spawnRay(h.p, h.ng, ray.d);
-                medium = scene_.nearMedium(h);
-                continue;
-            }
-            BSDFSample r, t;
-            bool canTransmit = false;
-            if (w.splits > 0 && bxdf.specularPair(wo, TransportMode::Radiance, &r, &t, &canTransmit)) {
-                Walk w2 = w;
-                --w2.splits;
-                SunChain cr = chain, ct = chain;
-                cr.reflected = true;
-                ++ct.transmissions;
-                const double wr = r.f * std::abs(r.wi.z);
-                if (wr > 0)
-                    L += beta * trace(spawnRay(h.p, h.ng, frame.toWorld(r.wi)), scene_.nearMedium(h), cr, w2, rng) * wr;
-                if (canTransmit) {
-                    const double wt = t.f * std::abs(t.wi.z);
-                    if (wt > 0)
-                        L += beta * trace(spawnRay(h.p, h.ng, frame.toWorld(t.wi)), scene_.farMedium(h), ct, w2, rng) *
-                             wt;
-                }
-                break;
-            }
-            const auto s = bxdf.sample(wo, uc, Vec2{u1, u2}, TransportMode::Radiance);
-            if (!s || s->pdf <= 0) break;
-            beta *= s->f * std::abs(s->wi.z) / s->pdf;
-            if (s->isTransmission()) {
-                ++chain.transmissions;
-                medium = scene_.farMedium(h);
-            } else {
-                chain.reflected = true;
-                medium = scene_.nearMedium(h);
-            }
-            ray = spawnRay(h.p, h.ng, frame.toWorld(s->wi));
-            continue;
-        }
-        // Diffuse surface.
-        const Spec rho = scene_.albedo(h, group_);
-        if (rho.isBlack()) break;
-        if (++vertices > config_.maxBounces) break;
-        const Normal3 n = h.front ? h.ng : -h.ng;
-        const SunBeam sun = sunBeam(h.p, h.ng, n, medium, rng);
-        if (sun.valid) L += beta * rho * sun.E * (std::max(0.0, dot(sun.toSun, n)) * kInvPi);
-        if (!roulette(beta, vertices, rng, false)) break;  // before the (possibly guided) direction, as above
-        const Frame frame = Frame::fromNormal(n);
-        const Vec3 woLocal = frame.toLocal(-ray.d);
-        const double ut = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u0 = rng.uniform(),
-                     u3 = rng.uniform();
-        // In scattering water, mix BxDF sampling with the phase function around the refracted sun
-        // (see sampleContinuation: the sun estimate on the next segment is peaked there).
-        const Medium& md2 = scene_.media()[medium];
-        const auto& guide = sunGuide_[medium];
-        Vec3 wiLocal;
-        if (guide && ut < kSunGuide) {
-            wiLocal = frame.toLocal(md2.sampleAround(md2.layerAt(h.p.z), group_, *guide, u0, u1, u2, u3));
-        } else {
-            const auto bs = bxdf.sample(woLocal, 0.5, Vec2{u1, u2});
-            if (!bs || bs->pdf <= 0) break;
-            wiLocal = bs->wi;
-        }
-        if (wiLocal.z * woLocal.z <= 0) break;  // below the surface: no reflection there
-        double pdf = bxdf.pdf(woLocal, wiLocal);
-        if (guide)
-            pdf = (1.0 - kSunGuide) * pdf +
-                  kSunGuide * md2.pdfAround(md2.layerAt(h.p.z), group_, *guide, frame.toWorld(wiLocal));
-        if (!(pdf > 0)) break;
-        beta *= rho * (bxdf.f(woLocal, wiLocal) * std::abs(wiLocal.z) / pdf);
-        const Vec3 wiWorld = normalize(frame.toWorld(wiLocal));
-        ray = spawnRay(h.p, h.ng, wiWorld);
-        chain = chainAfterVertex(medium);
+        if (!atSurface(s, h, rng)) break;
     }
-    return L;
+    return s.L;
+}
+
+PathEstimator::Flight PathEstimator::fly(PathState& s, SurfaceHit* h, bool* hit, RandomStream& rng) const {
+    const Medium& md = scene_.media()[s.medium];
+    if (!md.scattering()) {
+        *hit = scene_.geometry().intersect(s.ray, h);
+        if (md.attenuating()) {
+            if (!*hit) return Flight::Ended;  // an infinite path through absorbing water carries nothing
+            s.beta *= md.transmittance(s.ray, h->t, group_);
+        }
+        return Flight::Reached;
+    }
+    // Segments that start at the sensor/probe or at the first scattering vertex are marched;
+    // later ones get the collision estimate at their end (vertices counts the vertices so far).
+    const bool marched = s.w.vertices < kMarchedSegments;
+    FreeFlight ff;
+    if (marched) {  // the march needs the whole segment to the surface
+        *hit = scene_.geometry().intersect(s.ray, h);
+        const double tMax = *hit ? h->t : s.ray.tMax;
+        s.L += s.beta * sunInScatter(s.ray, tMax, s.medium, rng);
+        const double uBand = rng.uniform(), uDist = rng.uniform();
+        ff = md.sampleFreeFlight(s.ray, tMax, group_, uBand, uDist);
+    } else {  // the free flight first, then the geometry only up to it (the same result)
+        const double uBand = rng.uniform(), uDist = rng.uniform();
+        ff = scene_.flightToSurface(s.ray, s.medium, group_, uBand, uDist, h, hit);
+    }
+    s.beta *= ff.weight;
+    if (!ff.scattered) return s.beta.isBlack() ? Flight::Ended : Flight::Reached;
+    if (s.beta.isBlack() || ++s.w.vertices > config_.maxBounces) return Flight::Ended;
+    const Point3 x = s.ray.at(ff.t);
+    if (!marched) {
+        // Collision estimator of the sun scattered here toward the previous vertex.
+        s.L += s.beta * sunScattered(x, ff.layer, s.ray.d, s.medium, rng);
+    } else {
+        for (int k = 0; k < kSunScatterDims; ++k) rng.uniform();
+    }
+    // Roulette before the new direction is sampled: a direction guided toward the sun
+    // (sampleContinuation) gets a small weight on purpose, to be spent on the sun estimate at its
+    // next vertex; rouletting it first would restore the weight of the rare survivor and undo the
+    // guide (measured: 1000x outliers in Lu under a shading instrument).
+    if (!roulette(s.beta, s.w.vertices, rng, nearSun(s.medium, s.ray.d))) return Flight::Ended;
+    Spec weight;
+    const Vec3 wi = sampleContinuation(md, s.medium, ff.layer, s.ray.d, rng, &weight);
+    s.beta *= weight;
+    s.ray = Ray{x, wi};
+    s.chain = sun_.chainAfterVertex(s.medium);
+    return Flight::Scattered;
+}
+
+bool PathEstimator::atSurface(PathState& s, const SurfaceHit& h, RandomStream& rng) const {
+    s.chain.hitSurface();
+    if (scene_.isPeriodicWall(h)) {
+        const auto next = step_.wrap(h, s.ray.d, &s.w.wraps);
+        if (!next) return false;
+        s.ray = *next;
+        return true;
+    }
+    const BxDF bxdf = scene_.bxdf(h, group_);
+    if (!bxdf.isDelta() && !bxdf.isGlossy()) {
+        InteractionStep::requireDiffuse(bxdf);
+        return diffuseVertex(s, h, bxdf, rng);
+    }
+    // Interfaces: the shared step (render/interaction.h), with the first `splits` smooth events
+    // traced along both lobes.
+    const Interaction it = step_.atInterface(s.ray, h, bxdf, s.chain, &s.w.specular, s.w.splits, rng);
+    if (bxdf.isGlossy()) s.L += s.beta * it.sun;
+    if (it.kind == Interaction::Kind::Ended) return false;
+    if (it.kind == Interaction::Kind::Split) {
+        Walk w2 = s.w;
+        --w2.splits;
+        for (const Continuation& c : it.out)
+            if (c.weight > 0) s.L += s.beta * trace(c.ray, c.medium, c.chain, w2, rng) * c.weight;
+        return false;
+    }
+    s.beta *= it.out[0].weight;
+    s.ray = it.out[0].ray;
+    s.medium = it.out[0].medium;
+    s.chain = it.out[0].chain;
+    return true;
+}
+
+bool PathEstimator::diffuseVertex(PathState& s, const SurfaceHit& h, const BxDF& bxdf, RandomStream& rng) const {
+    const Spec rho = scene_.albedo(h, group_);
+    if (rho.isBlack()) return false;
+    if (++s.w.vertices > config_.maxBounces) return false;
+    const Normal3 n = h.front ? h.ng : -h.ng;
+    const SunBeam sun = sun_.sample(h.p, h.ng, n, s.medium, rng);
+    if (sun.valid) s.L += s.beta * rho * sun.E * (std::max(0.0, dot(sun.toSun, n)) * kInvPi);
+    if (!roulette(s.beta, s.w.vertices, rng, false)) return false;  // before the (possibly guided) direction, as above
+    const Frame frame = Frame::fromNormal(n);
+    const Vec3 woLocal = frame.toLocal(-s.ray.d);
+    const double ut = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u0 = rng.uniform(), u3 = rng.uniform();
+    // In scattering water, mix BxDF sampling with the phase function around the refracted sun
+    // (see sampleContinuation: the sun estimate on the next segment is peaked there).
+    const Medium& md = scene_.media()[s.medium];
+    const auto& guide = sunGuide_[s.medium];
+    Vec3 wiLocal;
+    if (guide && ut < kSunGuide) {
+        wiLocal = frame.toLocal(md.sampleAround(md.layerAt(h.p.z), group_, *guide, u0, u1, u2, u3));
+    } else {
+        const auto bs = bxdf.sample(woLocal, 0.5, Vec2{u1, u2});
+        if (!bs || bs->pdf <= 0) return false;
+        wiLocal = bs->wi;
+    }
+    if (wiLocal.z * woLocal.z <= 0) return false;  // below the surface: no reflection there
+    double pdf = bxdf.pdf(woLocal, wiLocal);
+    if (guide)
+        pdf = (1.0 - kSunGuide) * pdf + kSunGuide * md.pdfAround(md.layerAt(h.p.z), group_, *guide, frame.toWorld(wiLocal));
+    if (!(pdf > 0)) return false;
+    s.beta *= rho * (bxdf.f(woLocal, wiLocal) * std::abs(wiLocal.z) / pdf);
+    s.ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(wiLocal)));
+    s.chain = sun_.chainAfterVertex(s.medium);
+    return true;
 }
 
 }  // namespace

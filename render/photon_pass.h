@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/rng.h"
 #include "render/medium.h"
 #include "render/photon_map.h"
 #include "render/scene.h"
@@ -40,6 +41,7 @@ struct PhotonPassSettings {
     uint64_t surfaceTarget = 0;     // photons to store in the surface map (0: no surface map)
     uint64_t volumeTarget = 0;      // photons to store in the volume map (0: no volume map)
     int maxBounces = 200;           // scattering/diffuse events per photon path
+    int maxSpecularDepth = 1000;    // interface events per photon path (render.max_specular_depth when set)
     bool effectiveScattering = false;
     uint64_t seed = 1, pass = 0;
     uint64_t maxEmitted = 0;        // 0: 1000 x the larger target, at least 10^7
@@ -56,6 +58,28 @@ struct PhotonMaps {
     uint64_t emittedSurface = 0, emittedVolume = 0;  // emitted when each map closed
     double seconds = 0;
 };
+
+// Photon emission. The sun and the sky light an infinite horizontal plane just above the scene,
+// of which the domain is one period: a photon starts at a uniform point of the domain's plan view
+// at height z, from the sun with probability pSun (a direction uniform over the disc) or from the
+// sky (cosine-weighted over the upper hemisphere, for a uniform sky), and is moved through the
+// periodic air until its first hit lies inside the domain.
+struct PhotonSource {
+    double area = 0;
+    double x0 = 0, y0 = 0, lx = 0, ly = 0, z = 0;
+    double zLow = 0;        // the scene's lowest point
+    Spec sunFlux, skyFlux;  // per band, W um^-1: E_sun cos(theta_sun) A and pi L_sky A
+    double pSun = 0;        // probability of emitting from the sun
+    double meanFlux = 0;    // band-averaged total flux
+    static PhotonSource of(const Scene& scene, BandGroup g);
+};
+struct EmittedPhoton {
+    Ray ray;
+    Spec power;  // per band: Phi_source,b / (P(source) Phi_mean), relative to the mean flux
+    bool fromSun = false;
+};
+// Draws five numbers from rng.
+EmittedPhoton emitPhoton(const Scene& scene, const PhotonSource& source, RandomStream& rng);
 
 // Traces the photons of one band group. Warns if the emission cap is reached before a map is
 // full (it then holds what was stored).

@@ -1,6 +1,7 @@
 #include "render/probes.h"
 
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -34,6 +35,100 @@ Quantity parseQuantity(const std::string& q, const std::string& who) {
 // (p - 1) 2^24, so that every pass draws its own directions and paths (see renderer.cpp).
 constexpr uint64_t kProbePassBase = 1ull << 40;
 constexpr uint64_t kProbeProgressiveStride = 1ull << 24;
+
+// One quantity of one probe for one band group: draws its samples.
+struct ProbeSampler {
+    const Estimator& est;
+    BandGroup g;
+    Quantity q;
+    const Medium& md;
+    int layer, medium;
+    Point3 position;
+    Normal3 n;
+    Frame frame;
+    std::optional<Vec3> sunDir;  // set: the downwelling quantity mixes in sampling around the refracted sun
+
+    bool up() const { return q == Quantity::Ed || q == Quantity::Eod; }
+
+    // One sample, for the stratified point u of the quantity's hemisphere.
+    Spec sample(const Vec2& u, RandomStream& rng) const {
+        if (sunDir) return sampleMixed(u, rng);
+        Vec3 w;
+        double weight;
+        switch (q) {
+            case Quantity::Ed:
+            case Quantity::Eu:
+                w = sampleCosineHemisphere(u.x, u.y);
+                weight = kPi;  // Int L cos dw = pi <L> under pdf cos/pi
+                break;
+            case Quantity::Eod:
+            case Quantity::Eou:
+                w = sampleUniformHemisphere(u.x, u.y);
+                weight = 2.0 * kPi;  // Int L dw = 2 pi <L> under pdf 1/(2 pi)
+                break;
+            case Quantity::Lu:
+            default:
+                w = {0, 0, 1};
+                weight = 1.0;
+                break;
+        }
+        Ray ray;
+        ray.o = position;
+        ray.d = normalize(frame.toWorld(w));
+        if (!up()) return est.Li(ray, medium, rng) * weight;
+        // Diffuse light by sampling, the direct beam by next-event estimation.
+        Spec L = est.LiIndirect(ray, medium, rng) * weight;
+        L += est.sun().direct(position, n, medium, q == Quantity::Eod, rng);
+        return L;
+    }
+
+    // Technique 0: the quantity's own (cosine or uniform) hemisphere; technique 1: the phase
+    // function around the refracted sun; combined by the balance heuristic.
+    Spec sampleMixed(const Vec2& u, RandomStream& rng) const {
+        const bool plane = q == Quantity::Ed;
+        const double ut = rng.uniform(), u0 = rng.uniform(), u3 = rng.uniform();
+        Vec3 w, wl;
+        if (ut < 0.5) {
+            wl = plane ? sampleCosineHemisphere(u.x, u.y) : sampleUniformHemisphere(u.x, u.y);
+            w = frame.toWorld(wl);
+        } else {
+            w = md.sampleAround(layer, g, *sunDir, u0, u.x, u.y, u3);
+            wl = frame.toLocal(w);
+        }
+        const double cosT = wl.z;
+        Spec L(g.count);
+        if (cosT > 0) {
+            const double p0 = plane ? cosT * kInvPi : 1.0 / (2.0 * kPi);
+            const double p1 = md.pdfAround(layer, g, *sunDir, w);
+            const double f = plane ? cosT : 1.0;  // Ed weights by cos, Eod not
+            Ray ray;
+            ray.o = position;
+            ray.d = normalize(w);
+            L = est.LiIndirect(ray, medium, rng) * (f / (0.5 * p0 + 0.5 * p1));
+        }
+        L += est.sun().direct(position, n, medium, q == Quantity::Eod, rng);
+        return L;
+    }
+};
+
+// The mean of the batch means and its standard error (their spread), per band of g.
+void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, int perBatch, BandGroup g,
+                     ProbeValue* v) {
+    for (int b = 0; b < g.count; ++b) {
+        double sum = 0, sum2 = 0;
+        for (int batch = 0; batch < B; ++batch) {
+            double s = 0;
+            for (int c = 0; c < chunksPerBatch; ++c) s += chunkSums[static_cast<size_t>(batch) * chunksPerBatch + c][b];
+            const double m = s / perBatch;
+            sum += m;
+            sum2 += m * m;
+        }
+        const double mean = sum / B;
+        const double var = std::max(0.0, (sum2 - B * mean * mean) / (B - 1));
+        v->mean[g.begin + b] = mean;
+        v->stderr_[g.begin + b] = std::sqrt(var / B);
+    }
+}
 
 }  // namespace
 
@@ -76,9 +171,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
         v.batches = B;
         const bool up = q == Quantity::Ed || q == Quantity::Eod;
         const Normal3 n{0, 0, up ? 1.0 : -1.0};
-        const Frame frame = Frame::fromNormal(n);
         const Medium& md = scene.media()[medium];
-        const int layer = md.layerAt(probe.position.z);
         for (size_t gi = 0; gi < estimators.size(); ++gi) {
             const Estimator& est = estimators.forGroup(gi);
             const BandGroup g = estimators.groups()[gi];
@@ -88,8 +181,10 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
             // directions from the phase function around the sun and combine the two strategies by
             // the balance heuristic (one-sample MIS). (For flat phase functions this costs more
             // variance than it saves, measured on Mobley et al.'s problem 1.)
-            const auto sunDir =
-                up && md.scattering() && md.forwardPeaked() ? est.refractedSunDirection(medium) : std::nullopt;
+            const ProbeSampler sampler{est, g, q, md, md.layerAt(probe.position.z), medium, probe.position, n,
+                                       Frame::fromNormal(n),
+                                       up && md.scattering() && md.forwardPeaked() ? est.sun().refractedDirection(medium)
+                                                                                   : std::nullopt};
             std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
             tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
             arena.execute([&] {
@@ -103,64 +198,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                             const uint64_t index = static_cast<uint64_t>(batch) * perBatch + k;
                             RandomStream rng(scene.ir().render.seed, streamBase + probeIndex * 16 + qi, index);
                             const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
-                            Vec3 w;
-                            double weight;
-                            if (sunDir) {
-                                // Technique 0: the quantity's own (cosine or uniform) hemisphere;
-                                // technique 1: the phase function around the refracted sun.
-                                const bool plane = q == Quantity::Ed;
-                                const double ut = rng.uniform(), u0 = rng.uniform(), u3 = rng.uniform();
-                                Vec3 wl;
-                                if (ut < 0.5) {
-                                    wl = plane ? sampleCosineHemisphere(u.x, u.y) : sampleUniformHemisphere(u.x, u.y);
-                                    w = frame.toWorld(wl);
-                                } else {
-                                    w = md.sampleAround(layer, g, *sunDir, u0, u.x, u.y, u3);
-                                    wl = frame.toLocal(w);
-                                }
-                                const double cosT = wl.z;
-                                Spec L(g.count);
-                                if (cosT > 0) {
-                                    const double p0 = plane ? cosT * kInvPi : 1.0 / (2.0 * kPi);
-                                    const double p1 = md.pdfAround(layer, g, *sunDir, w);
-                                    const double f = plane ? cosT : 1.0;  // Ed weights by cos, Eod not
-                                    Ray ray;
-                                    ray.o = probe.position;
-                                    ray.d = normalize(w);
-                                    L = est.LiIndirect(ray, medium, rng) * (f / (0.5 * p0 + 0.5 * p1));
-                                }
-                                L += est.directSun(probe.position, n, medium, q == Quantity::Eod, rng);
-                                sum += L;
-                                continue;
-                            }
-                            switch (q) {
-                                case Quantity::Ed:
-                                case Quantity::Eu:
-                                    w = sampleCosineHemisphere(u.x, u.y);
-                                    weight = kPi;  // Int L cos dw = pi <L> under pdf cos/pi
-                                    break;
-                                case Quantity::Eod:
-                                case Quantity::Eou:
-                                    w = sampleUniformHemisphere(u.x, u.y);
-                                    weight = 2.0 * kPi;  // Int L dw = 2 pi <L> under pdf 1/(2 pi)
-                                    break;
-                                case Quantity::Lu:
-                                default:
-                                    w = {0, 0, 1};
-                                    weight = 1.0;
-                                    break;
-                            }
-                            Ray ray;
-                            ray.o = probe.position;
-                            ray.d = normalize(frame.toWorld(w));
-                            if (up) {
-                                // Diffuse light by sampling, the direct beam by next-event estimation.
-                                Spec L = est.LiIndirect(ray, medium, rng) * weight;
-                                L += est.directSun(probe.position, n, medium, q == Quantity::Eod, rng);
-                                sum += L;
-                            } else {
-                                sum += est.Li(ray, medium, rng) * weight;
-                            }
+                            sum += sampler.sample(u, rng);
                         }
                         chunkSums[c] = sum;
                         flushRayStats();
@@ -168,21 +206,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                     }
                 });
             });
-            // Batch means, then their spread.
-            for (int b = 0; b < g.count; ++b) {
-                double sum = 0, sum2 = 0;
-                for (int batch = 0; batch < B; ++batch) {
-                    double s = 0;
-                    for (int c = 0; c < chunksPerBatch; ++c) s += chunkSums[static_cast<size_t>(batch) * chunksPerBatch + c][b];
-                    const double m = s / perBatch;
-                    sum += m;
-                    sum2 += m * m;
-                }
-                const double mean = sum / B;
-                const double var = std::max(0.0, (sum2 - B * mean * mean) / (B - 1));
-                v.mean[g.begin + b] = mean;
-                v.stderr_[g.begin + b] = std::sqrt(var / B);
-            }
+            batchStatistics(chunkSums, B, chunksPerBatch, perBatch, g, &v);
         }
         out.push_back(std::move(v));
     }

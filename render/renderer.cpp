@@ -78,14 +78,22 @@ float truthDepth(const Scene& scene, Ray ray, int maxEvents) {
 
 }  // namespace
 
-void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who) {
+namespace {
+// Calls f(hit) for the first hit of a ray from p along each of the six axis directions that hits.
+template <class F> void forEachAxisHit(const Scene& scene, const Point3& p, F&& f) {
     static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const Vec3& d : dirs) {
         Ray r;
         r.o = p;
         r.d = d;
         SurfaceHit h;
-        if (!scene.geometry().intersect(r, &h)) continue;
+        if (scene.geometry().intersect(r, &h) && !f(h)) return;
+    }
+}
+}  // namespace
+
+void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who) {
+    forEachAxisHit(scene, p, [&](const SurfaceHit& h) {
         const MaterialData& m = scene.material(h);
         // A closed mesh that encloses a medium (a water volume, even with black floor faces) is
         // not an opaque object; one with air inside and an opaque face seen from behind is.
@@ -93,27 +101,24 @@ void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string
             throw InputError(fmt::format("{}: position ({}, {}, {}) is inside the closed opaque mesh '{}' (material "
                                          "'{}'): the camera would see only the inside of the object",
                                          who, p.x, p.y, p.z, scene.ir().meshes[h.mesh].name, m.name));
-    }
+        return true;
+    });
 }
 
 // Warns when the medium the sensor declares disagrees with the interfaces around it (e.g. a camera
 // placed inside a water volume but declared in air: its first segment would not be attenuated).
 static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declared, const std::string& who) {
-    static const Vec3 dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     int seen = -1, votes = 0;
-    for (const Vec3& d : dirs) {
-        Ray r;
-        r.o = p;
-        r.d = d;
-        SurfaceHit h;
-        if (!scene.geometry().intersect(r, &h)) continue;
-        if (!scene.material(h).isInterface()) continue;
+    bool ambiguous = false;
+    forEachAxisHit(scene, p, [&](const SurfaceHit& h) {
+        if (!(scene.bxdfFlags(h) & kTransmission)) return true;
         const int m = h.front ? scene.outsideMedium(h.mesh) : scene.insideMedium(h.mesh);
-        if (seen >= 0 && m != seen) return;  // ambiguous surroundings: say nothing
+        if (seen >= 0 && m != seen) return !(ambiguous = true);  // ambiguous surroundings: say nothing
         seen = m;
         ++votes;
-    }
-    if (votes > 0 && seen != declared)
+        return true;
+    });
+    if (!ambiguous && votes > 0 && seen != declared)
         log::warn("{}: declared in medium '{}' but the surrounding interfaces say '{}'", who,
                   scene.media()[declared].name(), scene.media()[seen].name());
 }

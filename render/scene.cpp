@@ -12,22 +12,6 @@
 
 namespace littoral::render {
 
-double Texture::lookup(double x, double y) const {
-    const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
-    const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
-    const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
-    const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
-    return texels[static_cast<size_t>(j) * width + i];
-}
-
-uint16_t ClassRaster::at(double x, double y) const {
-    const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
-    const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
-    const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
-    const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
-    return values[static_cast<size_t>(j) * width + i];
-}
-
 std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) {
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), OIIO::geterror()));
@@ -66,8 +50,8 @@ std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
         throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), in->geterror()));
     // 8-bit images are normalised by OIIO to [0, 1]; float images are taken as they are.
-    t->texels.resize(static_cast<size_t>(spec.width) * spec.height);
-    for (size_t i = 0; i < t->texels.size(); ++i) t->texels[i] = all[i * spec.nchannels];
+    t->values.resize(static_cast<size_t>(spec.width) * spec.height);
+    for (size_t i = 0; i < t->values.size(); ++i) t->values[i] = all[i * spec.nchannels];
     return t;
 }
 
@@ -89,6 +73,76 @@ auto placedOnExtent(Load&& load, const std::filesystem::path& irDir, const ir::M
     return raster;
 }
 
+// The renderer's material for an IR material: reflectance on the render bands, the raster it is
+// draped with, the Cox–Munk slopes of a rough interface, and the flags of its BxDF.
+MaterialData makeMaterial(const ir::Material& m, const std::vector<Band>& bands, const std::filesystem::path& irDir,
+                          bool periodicDomain) {
+    MaterialData d;
+    d.name = m.name;
+    d.type = m.type;
+    d.solver = m.solver;
+    const std::string who = fmt::format("material '{}'", m.name);
+    using T = ir::Material::Type;
+    switch (m.type) {
+        case T::Lambertian:
+        case T::Textured:
+            d.reflectance = m.reflectance.bandAverages(bands, who + " reflectance");
+            for (double r : d.reflectance)
+                if (!(r >= 0 && r <= 1))
+                    throw InputError(fmt::format("{}: reflectance {} outside [0, 1]", who, r));
+            if (m.type == T::Textured) {
+                if (m.texture.empty()) throw InputError(fmt::format("{}: Textured material needs a texture", who));
+                d.texture = placedOnExtent(loadTexture, irDir, m, who, "texture");
+            }
+            break;
+        case T::Dielectric:
+            d.reflectance.assign(bands.size(), 0.0);
+            break;
+        case T::RoughDielectric: {
+            d.reflectance.assign(bands.size(), 0.0);
+            // The frame of the BxDF has its x axis downwind (Scene::shadingFrame), so the
+            // distribution's own wind azimuth is 0.
+            CoxMunkParams p;
+            p.windSpeed = m.windSpeed;
+            p.windAzimuth = 0.0;
+            p.sea = m.sea;
+            p.gramCharlier = m.gramCharlier;
+            try {
+                d.slopes.emplace(p, m.origin, "wind_speed");
+            } catch (const InputError& e) {
+                if (!m.origin.file.empty()) throw InputError(m.origin, who + ": " + e.message());
+                throw InputError(who + ": " + e.message());
+            }
+            d.shadowing = m.shadowing;
+            if (!std::isfinite(m.windAzimuth))
+                throw InputError(fmt::format("{}: wind azimuth {} is not a finite angle", who, m.windAzimuth));
+            d.downwind = Vec3{std::cos(m.windAzimuth), std::sin(m.windAzimuth), 0.0};
+            break;
+        }
+        case T::Periodic:
+            if (!periodicDomain)
+                throw InputError(fmt::format("{}: a periodic wall needs a periodic domain (domain.horizontal: "
+                                             "periodic)",
+                                             who));
+            d.reflectance.assign(bands.size(), 0.0);
+            break;
+        case T::Black:
+            d.reflectance.assign(bands.size(), 0.0);
+            break;
+        case T::Classified: {
+            d.reflectance.assign(bands.size(), 0.0);
+            if (m.texture.empty()) throw InputError(fmt::format("{}: a classified material needs a class map", who));
+            d.classMap = placedOnExtent(loadClassRaster, irDir, m, who, "class map");
+            break;
+        }
+    }
+    d.bxdfFlags = m.type == T::RoughDielectric ? uint8_t(kReflection | kTransmission | kGlossy)
+                  : m.type == T::Dielectric    ? uint8_t(kReflection | kTransmission | kSpecular)
+                  : m.type == T::Periodic      ? uint8_t(0)
+                                               : uint8_t(kReflection | kDiffuse);
+    return d;
+}
+
 }  // namespace
 
 int Scene::mediumIndex(const std::string& name, const std::string& who) const {
@@ -98,81 +152,10 @@ int Scene::mediumIndex(const std::string& name, const std::string& who) const {
     throw InputError(fmt::format("{}: unknown medium '{}'", who, name));
 }
 
-Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir), bands_(ir.render.bands) {
-    if (bands_.empty()) throw InputError("render.bands: at least one band is required");
-    for (size_t i = 0; i < bands_.size(); ++i)
-        if (!(bands_[i].hi > bands_[i].lo) || !(bands_[i].lo > 0))
-            throw InputError(fmt::format("render.bands[{}]: [{}, {}] um is not a positive, non-empty interval", i,
-                                         bands_[i].lo, bands_[i].hi));
-
-    // Media: index 0 is the implicit air.
-    media_.push_back(Medium::air(bands_.size()));
-    for (const ir::Medium& m : ir.media) media_.emplace_back(m, bands_, fmt::format("medium '{}'", m.name));
-
-    for (const ir::Material& m : ir.materials) {
-        MaterialData d;
-        d.name = m.name;
-        d.type = m.type;
-        d.solver = m.solver;
-        const std::string who = fmt::format("material '{}'", m.name);
-        using T = ir::Material::Type;
-        switch (m.type) {
-            case T::Lambertian:
-            case T::Textured:
-                d.reflectance = m.reflectance.bandAverages(bands_, who + " reflectance");
-                for (double r : d.reflectance)
-                    if (!(r >= 0 && r <= 1))
-                        throw InputError(fmt::format("{}: reflectance {} outside [0, 1]", who, r));
-                if (m.type == T::Textured) {
-                    if (m.texture.empty()) throw InputError(fmt::format("{}: Textured material needs a texture", who));
-                    d.texture = placedOnExtent(loadTexture, irDir, m, who, "texture");
-                }
-                break;
-            case T::Dielectric:
-                d.reflectance.assign(bands_.size(), 0.0);
-                break;
-            case T::RoughDielectric: {
-                d.reflectance.assign(bands_.size(), 0.0);
-                // The frame of the BxDF has its x axis downwind (Scene::shadingFrame), so the
-                // distribution's own wind azimuth is 0.
-                CoxMunkParams p;
-                p.windSpeed = m.windSpeed;
-                p.windAzimuth = 0.0;
-                p.sea = m.sea;
-                p.gramCharlier = m.gramCharlier;
-                try {
-                    d.slopes.emplace(p, m.origin, "wind_speed");
-                } catch (const InputError& e) {
-                    if (!m.origin.file.empty()) throw InputError(m.origin, who + ": " + e.message());
-                    throw InputError(who + ": " + e.message());
-                }
-                d.shadowing = m.shadowing;
-                if (!std::isfinite(m.windAzimuth))
-                    throw InputError(fmt::format("{}: wind azimuth {} is not a finite angle", who, m.windAzimuth));
-                d.downwind = Vec3{std::cos(m.windAzimuth), std::sin(m.windAzimuth), 0.0};
-                break;
-            }
-            case T::Periodic:
-                if (!ir.domain.periodic)
-                    throw InputError(fmt::format("{}: a periodic wall needs a periodic domain (domain.horizontal: "
-                                                 "periodic)",
-                                                 who));
-                d.reflectance.assign(bands_.size(), 0.0);
-                break;
-            case T::Black:
-                d.reflectance.assign(bands_.size(), 0.0);
-                break;
-            case T::Classified: {
-                d.reflectance.assign(bands_.size(), 0.0);
-                if (m.texture.empty()) throw InputError(fmt::format("{}: a classified material needs a class map", who));
-                d.classMap = placedOnExtent(loadClassRaster, irDir, m, who, "class map");
-                break;
-            }
-        }
-        materials_.push_back(std::move(d));
-    }
-    // Class maps: each raster value names a diffuse material (resolved now that all are known), and
-    // every value that occurs has one.
+// Class maps: each raster value names a diffuse material (resolved once all are known), and every
+// value that occurs has one.
+void Scene::resolveClassMaps() {
+    const ir::SceneIR& ir = ir_;
     for (size_t k = 0; k < ir.materials.size(); ++k) {
         MaterialData& d = materials_[k];
         if (!d.classMap) continue;
@@ -199,59 +182,77 @@ Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir
                 throw InputError(fmt::format("{}: the class map {} holds value {} ({} pixels), which names no material",
                                              who, m.texture, v, count[v]));
     }
+}
 
-    for (size_t mi = 0; mi < ir.meshes.size(); ++mi) {
-        const ir::Mesh& mesh = ir.meshes[mi];
-        const std::string who = fmt::format("mesh '{}'", mesh.name);
-        std::vector<int> slots;
-        for (const std::string& name : mesh.materials) {
-            int idx = -1;
-            for (size_t k = 0; k < ir.materials.size(); ++k)
-                if (ir.materials[k].name == name) idx = static_cast<int>(k);
-            if (idx < 0) throw InputError(fmt::format("{}: unknown material '{}'", who, name));
-            slots.push_back(idx);
-        }
-        if (slots.empty() && !mesh.data.triangles.empty())
-            throw InputError(fmt::format("{}: no materials", who));
-        if (!mesh.data.faceMaterial.empty() && mesh.data.faceMaterial.size() != mesh.data.triangles.size())
-            throw InputError(fmt::format("{}: {} per-face material slots for {} triangles", who,
-                                         mesh.data.faceMaterial.size(), mesh.data.triangles.size()));
-        for (uint16_t s : mesh.data.faceMaterial)
-            if (s >= slots.size())
-                throw InputError(fmt::format("{}: a face uses material slot {} but the mesh lists {} materials", who,
-                                             s, slots.size()));
-        const int in = mediumIndex(mesh.inside, who + " inside"), out = mediumIndex(mesh.outside, who + " outside");
-        // A rough interface refracts only between different indices (render/rough_dielectric.h).
-        for (int k : slots)
-            if (materials_[static_cast<size_t>(k)].isRough())
-                for (size_t b = 0; b < bands_.size(); ++b)
-                    if (std::abs(media_[static_cast<size_t>(in)].n(static_cast<int>(b)) -
-                                 media_[static_cast<size_t>(out)].n(static_cast<int>(b))) <= 1e-6)
-                        throw InputError(fmt::format("{}: rough interface '{}' between media of equal refractive index "
-                                                     "({}) in band {}; a rough interface needs different indices",
-                                                     who, materials_[static_cast<size_t>(k)].name,
-                                                     media_[static_cast<size_t>(in)].n(static_cast<int>(b)), b));
-        // A class map must cover, in plan view, every mesh that uses it (the lookup would otherwise
-        // clamp to its edge pixels and invent classes there).
-        for (size_t s = 0; s < slots.size(); ++s) {
-            const MaterialData& d = materials_[static_cast<size_t>(slots[s])];
-            if (!d.classMap) continue;
-            BBox3 b;
-            for (size_t f = 0; f < mesh.data.triangles.size(); ++f)
-                if (mesh.data.materialOf(f) == s)
-                    for (uint32_t v : mesh.data.triangles[f]) b.expand(mesh.data.positions[v]);
-            if (b.empty()) continue;
-            const ClassRaster& r = *d.classMap;
-            const double tol = 1e-6 * std::max({1.0, r.x1 - r.x0, r.y1 - r.y0});
-            if (b.lo.x < r.x0 - tol || b.hi.x > r.x1 + tol || b.lo.y < r.y0 - tol || b.hi.y > r.y1 + tol)
-                throw InputError(fmt::format("{}: the class map of material '{}' covers [{}, {}] x [{}, {}] m, but the "
-                                             "faces that use it span [{}, {}] x [{}, {}] m; the map must cover them",
-                                             who, d.name, r.x0, r.x1, r.y0, r.y1, b.lo.x, b.hi.x, b.lo.y, b.hi.y));
-        }
-        meshMaterials_.push_back(std::move(slots));
-        meshInside_.push_back(in);
-        meshOutside_.push_back(out);
+// A mesh's material slots and media, checked: every slot names a material, rough interfaces
+// separate different indices, and class maps cover the faces that use them.
+void Scene::addMesh(const ir::Mesh& mesh) {
+    const ir::SceneIR& ir = ir_;
+    const std::string who = fmt::format("mesh '{}'", mesh.name);
+    std::vector<int> slots;
+    for (const std::string& name : mesh.materials) {
+        int idx = -1;
+        for (size_t k = 0; k < ir.materials.size(); ++k)
+            if (ir.materials[k].name == name) idx = static_cast<int>(k);
+        if (idx < 0) throw InputError(fmt::format("{}: unknown material '{}'", who, name));
+        slots.push_back(idx);
     }
+    if (slots.empty() && !mesh.data.triangles.empty())
+        throw InputError(fmt::format("{}: no materials", who));
+    if (!mesh.data.faceMaterial.empty() && mesh.data.faceMaterial.size() != mesh.data.triangles.size())
+        throw InputError(fmt::format("{}: {} per-face material slots for {} triangles", who,
+                                     mesh.data.faceMaterial.size(), mesh.data.triangles.size()));
+    for (uint16_t s : mesh.data.faceMaterial)
+        if (s >= slots.size())
+            throw InputError(fmt::format("{}: a face uses material slot {} but the mesh lists {} materials", who,
+                                         s, slots.size()));
+    const int in = mediumIndex(mesh.inside, who + " inside"), out = mediumIndex(mesh.outside, who + " outside");
+    // A rough interface refracts only between different indices (render/rough_dielectric.h).
+    for (int k : slots)
+        if (materials_[static_cast<size_t>(k)].isRough())
+            for (size_t b = 0; b < bands_.size(); ++b)
+                if (std::abs(media_[static_cast<size_t>(in)].n(static_cast<int>(b)) -
+                             media_[static_cast<size_t>(out)].n(static_cast<int>(b))) <= 1e-6)
+                    throw InputError(fmt::format("{}: rough interface '{}' between media of equal refractive index "
+                                                 "({}) in band {}; a rough interface needs different indices",
+                                                 who, materials_[static_cast<size_t>(k)].name,
+                                                 media_[static_cast<size_t>(in)].n(static_cast<int>(b)), b));
+    // A class map must cover, in plan view, every mesh that uses it (the lookup would otherwise
+    // clamp to its edge pixels and invent classes there).
+    for (size_t s = 0; s < slots.size(); ++s) {
+        const MaterialData& d = materials_[static_cast<size_t>(slots[s])];
+        if (!d.classMap) continue;
+        BBox3 b;
+        for (size_t f = 0; f < mesh.data.triangles.size(); ++f)
+            if (mesh.data.materialOf(f) == s)
+                for (uint32_t v : mesh.data.triangles[f]) b.expand(mesh.data.positions[v]);
+        if (b.empty()) continue;
+        const ClassRaster& r = *d.classMap;
+        const double tol = 1e-6 * std::max({1.0, r.x1 - r.x0, r.y1 - r.y0});
+        if (b.lo.x < r.x0 - tol || b.hi.x > r.x1 + tol || b.lo.y < r.y0 - tol || b.hi.y > r.y1 + tol)
+            throw InputError(fmt::format("{}: the class map of material '{}' covers [{}, {}] x [{}, {}] m, but the "
+                                         "faces that use it span [{}, {}] x [{}, {}] m; the map must cover them",
+                                         who, d.name, r.x0, r.x1, r.y0, r.y1, b.lo.x, b.hi.x, b.lo.y, b.hi.y));
+    }
+    meshMaterials_.push_back(std::move(slots));
+    meshInside_.push_back(in);
+    meshOutside_.push_back(out);
+}
+
+Scene::Scene(const ir::SceneIR& ir, const std::filesystem::path& irDir) : ir_(ir), bands_(ir.render.bands) {
+    if (bands_.empty()) throw InputError("render.bands: at least one band is required");
+    for (size_t i = 0; i < bands_.size(); ++i)
+        if (!(bands_[i].hi > bands_[i].lo) || !(bands_[i].lo > 0))
+            throw InputError(fmt::format("render.bands[{}]: [{}, {}] um is not a positive, non-empty interval", i,
+                                         bands_[i].lo, bands_[i].hi));
+
+    // Media: index 0 is the implicit air.
+    media_.push_back(Medium::air(bands_.size()));
+    for (const ir::Medium& m : ir.media) media_.emplace_back(m, bands_, fmt::format("medium '{}'", m.name));
+
+    for (const ir::Material& m : ir.materials) materials_.push_back(makeMaterial(m, bands_, irDir, ir.domain.periodic));
+    resolveClassMaps();
+    for (size_t mi = 0; mi < ir.meshes.size(); ++mi) addMesh(ir.meshes[mi]);
 
     sun_ = makeSun(ir.sun, bands_);
     sky_ = makeSky(ir.sky, bands_);
@@ -288,7 +289,7 @@ Spec Scene::albedo(const SurfaceHit& h, BandGroup g) const {
     const MaterialData& m = materials_[materialIndex(h)];
     Spec rho(g.count);
     for (int i = 0; i < g.count; ++i) rho[i] = m.reflectance[g.begin + i];
-    if (m.texture) rho *= m.texture->lookup(h.p.x, h.p.y);
+    if (m.texture) rho *= m.texture->at(h.p.x, h.p.y);
     return rho;
 }
 

@@ -2,6 +2,9 @@
 // The renderer's view of a Scene IR: every spectrum averaged onto the render bands (InputError
 // for a band outside a table), media and materials resolved to indices, textures loaded, the
 // Embree BVH built. Immutable after construction and shared by all render threads.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -17,25 +20,25 @@
 
 namespace littoral::render {
 
-// A single-channel texture draped in plan view over [x0, x1] x [y0, y1]. Row 0 of the image is
-// the north edge (y = y1), column 0 the west edge (x = x0); lookup is nearest-texel and points
-// outside the rectangle take the nearest edge texel.
-struct Texture {
+// A single-channel raster draped in plan view over [x0, x1] x [y0, y1]: row 0 of the image is the
+// north edge (y = y1), column 0 the west edge (x = x0), pixel-is-area; at() is the nearest pixel,
+// and points outside the rectangle take the nearest edge pixel (the Scene checks that the meshes
+// using a class map lie inside it).
+template <class T> struct PlanRaster {
     int width = 0, height = 0;
-    std::vector<float> texels;
+    std::vector<T> values;
     double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
-    double lookup(double x, double y) const;
+    T at(double x, double y) const {
+        const double u = (x - x0) / (x1 - x0);  // 0 at the west edge
+        const double v = (y1 - y) / (y1 - y0);  // 0 at the north edge (image row 0)
+        const int i = std::clamp(static_cast<int>(std::floor(u * width)), 0, width - 1);
+        const int j = std::clamp(static_cast<int>(std::floor(v * height)), 0, height - 1);
+        return values[static_cast<size_t>(j) * width + i];
+    }
 };
-
-// A classification raster in plan view: integer class values over [x0, x1] x [y0, y1], row 0 the
-// north edge, column 0 the west edge, pixel-is-area; points outside take the nearest edge pixel
-// (the Scene checks that the meshes using it lie inside).
-struct ClassRaster {
-    int width = 0, height = 0;
-    std::vector<uint16_t> values;
-    double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
-    uint16_t at(double x, double y) const;
-};
+// A texture: per-pixel reflectance factors (float). A classification raster: class values.
+using Texture = PlanRaster<float>;
+using ClassRaster = PlanRaster<uint16_t>;
 
 // Reads an 8- or 16-bit single-channel integer image without rescaling its values. InputError if it
 // cannot.
@@ -59,6 +62,11 @@ struct MaterialData {
     // value does not occur). Scene::materialIndex resolves a hit through it.
     std::shared_ptr<const ClassRaster> classMap;
     std::vector<int> classMaterial;
+    // The flags of the BxDF Scene::bxdf builds for this material (kTransmission for interfaces,
+    // kSpecular or kGlossy for smooth or rough ones, kDiffuse for the rest; 0 for periodic walls,
+    // which are domain edges, not surfaces), set once by the Scene: transport decides by them
+    // without building the BxDF.
+    uint8_t bxdfFlags = 0;
     // Interfaces let light through to the mesh's other medium; everything else is opaque.
     bool isInterface() const {
         return type == ir::Material::Type::Dielectric || type == ir::Material::Type::RoughDielectric;
@@ -96,6 +104,10 @@ public:
         return d.classMap ? d.classMaterial[d.classMap->at(h.p.x, h.p.y)] : m;
     }
     const MaterialData& material(const SurfaceHit& h) const { return materials_[materialIndex(h)]; }
+    // The flags of bxdf(h), without building it (MaterialData::bxdfFlags).
+    uint8_t bxdfFlags(const SurfaceHit& h) const { return material(h).bxdfFlags; }
+    // Is the hit on a periodic side wall of the domain (see wrapRay)?
+    bool isPeriodicWall(const SurfaceHit& h) const { return material(h).isPeriodicWall(); }
     // The BxDF at a hit for the bands of g, in the hit's local frame (+z = the mesh's outward
     // normal): Lambertian with unit reflectance for diffuse materials (the per-band reflectance is
     // albedo()), a smooth dielectric between the mesh's outside and inside media for interfaces.
@@ -144,6 +156,9 @@ public:
     int mediumIndex(const std::string& name, const std::string& who) const;
 
 private:
+    void resolveClassMaps();
+    void addMesh(const ir::Mesh& mesh);
+
     const ir::SceneIR& ir_;
     std::vector<Band> bands_;
     std::unique_ptr<EmbreeScene> geometry_;
