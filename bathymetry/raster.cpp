@@ -85,14 +85,113 @@ std::vector<std::pair<std::string_view, int>> tokens(std::string_view line) {
     return out;
 }
 
+// The header of an ESRI ASCII grid: key -> (value, line).
+using AsciiHeader = std::map<std::string, std::pair<double, int>>;
+
+const std::vector<std::string>& asciiHeaderKeys() {
+    static const std::vector<std::string> kKeys = {"ncols", "nrows", "xllcorner", "xllcenter", "yllcorner",
+                                                   "yllcenter", "cellsize", "dx", "dy", "nodata_value"};
+    return kKeys;
+}
+
+// One "key value" header line into `header`.
+void parseHeaderLine(const std::vector<std::pair<std::string_view, int>>& tok, const std::string& line, int lineNo,
+                     const std::string& file, AsciiHeader& header) {
+    const auto& keys = asciiHeaderKeys();
+    const std::string key = lower(std::string(tok[0].first));
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+        const std::string hint = closestMatch(key, keys);
+        throw InputError(SourceLoc{file, lineNo, tok[0].second},
+                         fmt::format("unknown ASCII grid header key '{}'{}; allowed: {}", tok[0].first,
+                                     hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), joinList(keys)));
+    }
+    if (tok.size() != 2)
+        throw InputError(SourceLoc{file, lineNo, 1}, fmt::format("header line '{}' must be a key and one value", line));
+    double v;
+    if (!parseDouble(tok[1].first, &v) || !std::isfinite(v))
+        throw InputError(SourceLoc{file, lineNo, tok[1].second},
+                         fmt::format("'{}' value '{}' is not a finite number", key, tok[1].first));
+    if (header.count(key))
+        throw InputError(SourceLoc{file, lineNo, 1},
+                         fmt::format("'{}' given twice (first on line {})", key, header[key].second));
+    header[key] = {v, lineNo};
+}
+
+// The grid's size, spacing and origin from the header, complete once the first data line (at
+// `lineNo`) is reached.
+Grid gridFromHeader(AsciiHeader& header, int lineNo, const std::string& file) {
+    Grid g;
+    const auto need = [&](const char* key) {
+        if (!header.count(key))
+            throw InputError(SourceLoc{file, lineNo},
+                             fmt::format("ASCII grid header lacks '{}' before the first data line", key));
+        return header[key];
+    };
+    const auto count = [&](const char* key) {
+        const auto [v, ln] = need(key);
+        if (v != std::floor(v) || v < 2 || v > 1e6)
+            throw InputError(SourceLoc{file, ln}, fmt::format("'{}' = {} must be a whole number in [2, 1000000]", key, v));
+        return static_cast<long>(v);
+    };
+    g.nx = count("ncols");
+    g.ny = count("nrows");
+    if (header.count("cellsize")) {
+        g.dx = g.dy = header["cellsize"].first;
+        if (header.count("dx") || header.count("dy"))
+            throw InputError(SourceLoc{file, header["cellsize"].second}, "give either cellsize or dx/dy, not both");
+    } else if (header.count("dx") && header.count("dy")) {
+        g.dx = header["dx"].first;
+        g.dy = header["dy"].first;
+    } else {
+        throw InputError(SourceLoc{file, lineNo}, "ASCII grid header lacks 'cellsize' (or 'dx' and 'dy')");
+    }
+    if (!(g.dx > 0) || !(g.dy > 0))
+        throw InputError(SourceLoc{file, header.count("cellsize") ? header["cellsize"].second : header["dx"].second},
+                         fmt::format("cell size {} x {} must be > 0", g.dx, g.dy));
+    const bool xc = header.count("xllcenter"), xk = header.count("xllcorner");
+    const bool yc = header.count("yllcenter"), yk = header.count("yllcorner");
+    if (xc == xk || yc == yk)
+        throw InputError(SourceLoc{file, lineNo},
+                         "ASCII grid header needs exactly one of xllcorner/xllcenter and one of "
+                         "yllcorner/yllcenter");
+    // Corner registration: the lower-left cell's centre is half a cell in from the corner.
+    const double xll = xc ? header["xllcenter"].first : header["xllcorner"].first + 0.5 * g.dx;
+    const double yll = yc ? header["yllcenter"].first : header["yllcorner"].first + 0.5 * g.dy;
+    g.xc0 = xll;
+    g.yTop = yll + double(g.ny - 1) * g.dy;
+    return g;
+}
+
+// One data line, grid row `row` (0-based), appended to `raw`.
+void parseDataRow(const std::vector<std::pair<std::string_view, int>>& tok, int lineNo, const std::string& file,
+                  long row, const Grid& g, const std::optional<double>& nodata, std::vector<double>& raw) {
+    if (row >= g.ny)
+        throw InputError(SourceLoc{file, lineNo, tok[0].second},
+                         fmt::format("extra data after the {} rows the header declares", g.ny));
+    if (long(tok.size()) != g.nx)
+        throw InputError(SourceLoc{file, lineNo},
+                         fmt::format("row {} has {} values; ncols = {} (one grid row per line)", row + 1, tok.size(),
+                                     g.nx));
+    for (size_t c = 0; c < tok.size(); ++c) {
+        double v;
+        if (!parseDouble(tok[c].first, &v) || !std::isfinite(v))
+            throw InputError(SourceLoc{file, lineNo, tok[c].second},
+                             fmt::format("'{}' (row {}, column {}) is not a finite number", tok[c].first, row + 1,
+                                         c + 1));
+        if (nodata && v == *nodata)
+            throw InputError(SourceLoc{file, lineNo, tok[c].second},
+                             fmt::format("row {}, column {} is NODATA ({}); the terrain must be complete, fill "
+                                         "holes before loading", row + 1, c + 1, v));
+        raw.push_back(v);
+    }
+}
+
 // ESRI ASCII grid (Arc/Info ASCII GRID): header lines "key value", then nrows lines of ncols values,
 // north row first. Strict: every data line holds exactly ncols values.
 Grid parseAsciiGrid(std::string_view text, const std::string& file) {
     std::istringstream in{std::string(text)};
     size_t consumed = 0;  // bytes of the text before the current line
-    static const std::vector<std::string> kKeys = {"ncols", "nrows", "xllcorner", "xllcenter", "yllcorner",
-                                                   "yllcenter", "cellsize", "dx", "dy", "nodata_value"};
-    std::map<std::string, std::pair<double, int>> header;  // key -> (value, line)
+    AsciiHeader header;
     std::string line;
     int lineNo = 0;
     Grid g;
@@ -109,68 +208,12 @@ Grid parseAsciiGrid(std::string_view text, const std::string& file) {
         if (tok.empty()) continue;
         const bool isNumber = [&] { double d; return parseDouble(tok[0].first, &d); }();
         if (!headerDone && !isNumber) {
-            const std::string key = lower(std::string(tok[0].first));
-            if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
-                const std::string hint = closestMatch(key, kKeys);
-                throw InputError(SourceLoc{file, lineNo, tok[0].second},
-                                 fmt::format("unknown ASCII grid header key '{}'{}; allowed: {}", tok[0].first,
-                                             hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
-                                             joinList(kKeys)));
-            }
-            if (tok.size() != 2)
-                throw InputError(SourceLoc{file, lineNo, 1},
-                                 fmt::format("header line '{}' must be a key and one value", line));
-            double v;
-            if (!parseDouble(tok[1].first, &v) || !std::isfinite(v))
-                throw InputError(SourceLoc{file, lineNo, tok[1].second},
-                                 fmt::format("'{}' value '{}' is not a finite number", key, tok[1].first));
-            if (header.count(key))
-                throw InputError(SourceLoc{file, lineNo, 1},
-                                 fmt::format("'{}' given twice (first on line {})", key, header[key].second));
-            header[key] = {v, lineNo};
+            parseHeaderLine(tok, line, lineNo, file, header);
             continue;
         }
         if (!headerDone) {
             headerDone = true;
-            const auto need = [&](const char* key) {
-                if (!header.count(key))
-                    throw InputError(SourceLoc{file, lineNo},
-                                     fmt::format("ASCII grid header lacks '{}' before the first data line", key));
-                return header[key];
-            };
-            const auto count = [&](const char* key) {
-                const auto [v, ln] = need(key);
-                if (v != std::floor(v) || v < 2 || v > 1e6)
-                    throw InputError(SourceLoc{file, ln},
-                                     fmt::format("'{}' = {} must be a whole number in [2, 1000000]", key, v));
-                return static_cast<long>(v);
-            };
-            g.nx = count("ncols");
-            g.ny = count("nrows");
-            if (header.count("cellsize")) {
-                g.dx = g.dy = header["cellsize"].first;
-                if (header.count("dx") || header.count("dy"))
-                    throw InputError(SourceLoc{file, header["cellsize"].second}, "give either cellsize or dx/dy, not both");
-            } else if (header.count("dx") && header.count("dy")) {
-                g.dx = header["dx"].first;
-                g.dy = header["dy"].first;
-            } else {
-                throw InputError(SourceLoc{file, lineNo}, "ASCII grid header lacks 'cellsize' (or 'dx' and 'dy')");
-            }
-            if (!(g.dx > 0) || !(g.dy > 0))
-                throw InputError(SourceLoc{file, header.count("cellsize") ? header["cellsize"].second : header["dx"].second},
-                                 fmt::format("cell size {} x {} must be > 0", g.dx, g.dy));
-            const bool xc = header.count("xllcenter"), xk = header.count("xllcorner");
-            const bool yc = header.count("yllcenter"), yk = header.count("yllcorner");
-            if (xc == xk || yc == yk)
-                throw InputError(SourceLoc{file, lineNo},
-                                 "ASCII grid header needs exactly one of xllcorner/xllcenter and one of "
-                                 "yllcorner/yllcenter");
-            // Corner registration: the lower-left cell's centre is half a cell in from the corner.
-            const double xll = xc ? header["xllcenter"].first : header["xllcorner"].first + 0.5 * g.dx;
-            const double yll = yc ? header["yllcenter"].first : header["yllcorner"].first + 0.5 * g.dy;
-            g.xc0 = xll;
-            g.yTop = yll + double(g.ny - 1) * g.dy;
+            g = gridFromHeader(header, lineNo, file);
             if (header.count("nodata_value")) nodata = header["nodata_value"].first;
             // The header's counts against the memory budget, and against what the rest of the file
             // can hold (every value takes a digit and a separator) before reserving: a lying header
@@ -181,25 +224,7 @@ Grid parseAsciiGrid(std::string_view text, const std::string& file) {
             const double left = double(text.size() - std::min(text.size(), lineOffset));
             if (2.0 * values - 1.0 <= left) raw.reserve(size_t(g.nx) * size_t(g.ny));
         }
-        if (row >= g.ny)
-            throw InputError(SourceLoc{file, lineNo, tok[0].second},
-                             fmt::format("extra data after the {} rows the header declares", g.ny));
-        if (long(tok.size()) != g.nx)
-            throw InputError(SourceLoc{file, lineNo},
-                             fmt::format("row {} has {} values; ncols = {} (one grid row per line)", row + 1,
-                                         tok.size(), g.nx));
-        for (size_t c = 0; c < tok.size(); ++c) {
-            double v;
-            if (!parseDouble(tok[c].first, &v) || !std::isfinite(v))
-                throw InputError(SourceLoc{file, lineNo, tok[c].second},
-                                 fmt::format("'{}' (row {}, column {}) is not a finite number", tok[c].first, row + 1,
-                                             c + 1));
-            if (nodata && v == *nodata)
-                throw InputError(SourceLoc{file, lineNo, tok[c].second},
-                                 fmt::format("row {}, column {} is NODATA ({}); the terrain must be complete, fill "
-                                             "holes before loading", row + 1, c + 1, v));
-            raw.push_back(v);
-        }
+        parseDataRow(tok, lineNo, file, row, g, nodata, raw);
         ++row;
     }
     if (!headerDone) throw InputError(SourceLoc{file}, "no grid data: the file is empty or holds only a header");
@@ -236,9 +261,9 @@ std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::pat
     return out;
 }
 
-Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
+// The samples of the raster's channel `opt.channel`, row-major from the north; sets the grid's size.
+std::vector<double> readImageSamples(const std::filesystem::path& path, const RasterOptions& opt, Grid& g) {
     const std::string file = path.string();
-    const GeoTiffInfo geo = readGeoTiffInfo(path);  // also reports a missing file clearly
     auto in = OIIO::ImageInput::open(file);
     if (!in)
         throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
@@ -253,54 +278,50 @@ Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
     // Decoding holds the samples twice (the file's type, then double): refuse before allocating.
     requireMemory(16.0 * double(spec.width) * double(spec.height),
                   fmt::format("an elevation raster of {} x {} samples would", spec.width, spec.height), SourceLoc{file});
-    Grid g;
     g.nx = spec.width;
     g.ny = spec.height;
     std::vector<double> raw = readChannel(*in, path, opt.channel);
     in->close();
+    return raw;
+}
 
-    if (opt.extent) {
-        // Caller's extent: the rectangle spanned by the sample centres.
-        g.dx = opt.extent->width() / double(g.nx - 1);
-        g.dy = opt.extent->height() / double(g.ny - 1);
-        g.xc0 = opt.extent->x0;
-        g.yTop = opt.extent->y1;
-    } else if (geo.hasGeoreferencing()) {
-        if (geo.modelType == 2)
-            throw InputError(SourceLoc{file}, "the GeoTIFF is in geographic coordinates (degrees, GTModelType 2); "
-                                              "reproject it to a projected system in metres (e.g. UTM) or give an "
-                                              "extent in the local frame");
-        if (geo.modelType == 3)
-            throw InputError(SourceLoc{file}, "the GeoTIFF is geocentric (GTModelType 3); a projected system in metres "
-                                              "is required");
-        // Raster (I, J) -> model (X, Y): X = a I + b J + d, Y = e I + f J + h (GeoTIFF 1.1, 7.3).
-        double a, b, d, e, f, h;
-        if (geo.transformation) {
-            const auto& m = *geo.transformation;
-            a = m[0]; b = m[1]; d = m[3]; e = m[4]; f = m[5]; h = m[7];
-        } else {
-            const auto& s = *geo.pixelScale;
-            const auto& tp = geo.tiepoints;  // first tie point anchors the grid
-            a = s[0]; b = 0; e = 0; f = -s[1];
-            d = tp[3] - tp[0] * s[0];
-            h = tp[4] + tp[1] * s[1];
-        }
-        if (b != 0 || e != 0)
-            throw InputError(SourceLoc{file}, "the GeoTIFF grid is rotated (ModelTransformation has shear terms); "
-                                              "only north-up rasters are supported");
-        if (!(a > 0) || !(f < 0))
-            throw InputError(SourceLoc{file}, fmt::format("GeoTIFF pixel size ({}, {}) must be positive in x and "
-                                                          "negative in y (north-up)", a, f));
-        const double c = geo.rasterType == 2 ? 0.0 : 0.5;  // PixelIsPoint vs PixelIsArea centres
-        g.dx = a;
-        g.dy = -f;
-        g.xc0 = a * c + d - opt.originX;
-        g.yTop = f * c + h - opt.originY;
+// Sample spacing and origin from the GeoTIFF tags (north-up, projected in metres), in the local
+// frame of opt.originX/Y.
+void georeference(const GeoTiffInfo& geo, const RasterOptions& opt, const std::string& file, Grid& g) {
+    if (geo.modelType == 2)
+        throw InputError(SourceLoc{file}, "the GeoTIFF is in geographic coordinates (degrees, GTModelType 2); "
+                                          "reproject it to a projected system in metres (e.g. UTM) or give an "
+                                          "extent in the local frame");
+    if (geo.modelType == 3)
+        throw InputError(SourceLoc{file}, "the GeoTIFF is geocentric (GTModelType 3); a projected system in metres "
+                                          "is required");
+    // Raster (I, J) -> model (X, Y): X = a I + b J + d, Y = e I + f J + h (GeoTIFF 1.1, 7.3).
+    double a, b, d, e, f, h;
+    if (geo.transformation) {
+        const auto& m = *geo.transformation;
+        a = m[0]; b = m[1]; d = m[3]; e = m[4]; f = m[5]; h = m[7];
     } else {
-        throw InputError(SourceLoc{file}, "raster has no georeferencing (no GeoTIFF ModelPixelScale/ModelTiepoint or "
-                                          "ModelTransformation); give its extent in the local frame");
+        const auto& s = *geo.pixelScale;
+        const auto& tp = geo.tiepoints;  // first tie point anchors the grid
+        a = s[0]; b = 0; e = 0; f = -s[1];
+        d = tp[3] - tp[0] * s[0];
+        h = tp[4] + tp[1] * s[1];
     }
+    if (b != 0 || e != 0)
+        throw InputError(SourceLoc{file}, "the GeoTIFF grid is rotated (ModelTransformation has shear terms); "
+                                          "only north-up rasters are supported");
+    if (!(a > 0) || !(f < 0))
+        throw InputError(SourceLoc{file}, fmt::format("GeoTIFF pixel size ({}, {}) must be positive in x and "
+                                                      "negative in y (north-up)", a, f));
+    const double c = geo.rasterType == 2 ? 0.0 : 0.5;  // PixelIsPoint vs PixelIsArea centres
+    g.dx = a;
+    g.dy = -f;
+    g.xc0 = a * c + d - opt.originX;
+    g.yTop = f * c + h - opt.originY;
+}
 
+// Every sample must be finite and not the GDAL NODATA value.
+void checkComplete(const std::vector<double>& raw, const GeoTiffInfo& geo, const Grid& g, const std::string& file) {
     std::optional<double> nodata;
     if (geo.gdalNodata) {
         double v;
@@ -317,6 +338,26 @@ Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
                                              "terrain must be complete, fill holes before loading", j + 1, i + 1,
                                              isNodata ? "NODATA" : "not finite", v));
         }
+}
+
+Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
+    const std::string file = path.string();
+    const GeoTiffInfo geo = readGeoTiffInfo(path);  // also reports a missing file clearly
+    Grid g;
+    std::vector<double> raw = readImageSamples(path, opt, g);
+    if (opt.extent) {
+        // Caller's extent: the rectangle spanned by the sample centres.
+        g.dx = opt.extent->width() / double(g.nx - 1);
+        g.dy = opt.extent->height() / double(g.ny - 1);
+        g.xc0 = opt.extent->x0;
+        g.yTop = opt.extent->y1;
+    } else if (geo.hasGeoreferencing()) {
+        georeference(geo, opt, file, g);
+    } else {
+        throw InputError(SourceLoc{file}, "raster has no georeferencing (no GeoTIFF ModelPixelScale/ModelTiepoint or "
+                                          "ModelTransformation); give its extent in the local frame");
+    }
+    checkComplete(raw, geo, g, file);
     g.z = std::move(raw);
     return g;
 }

@@ -215,28 +215,75 @@ std::vector<std::string_view> words(std::string_view line) {
     return w;
 }
 
-}  // namespace
-
-TriMesh parsePly(std::string_view data, const std::string& file, const PlyReadOptions& options) {
-    if (data.empty()) throw InputError(SourceLoc{file}, "PLY file is empty (0 bytes)");
-    if (data.substr(0, 4) != "ply\n" && data.substr(0, 5) != "ply\r\n")
-        throw InputError(SourceLoc{file, 1, 1}, "not a PLY file (the first line must be 'ply')");
-
-    // ---- header: one keyword per line up to end_header ----
+// What the header declares, and where the body starts.
+struct PlyHeader {
     std::vector<Element> elements;
     std::optional<Encoding> encoding;
+    size_t bodyStart = 0;  // byte offset of the body
+    int lines = 0;         // header lines, end_header included
+};
+
+Encoding parseFormatLine(const std::vector<std::string_view>& w, const SourceLoc& here) {
+    if (w.size() != 3 || w[2] != "1.0")
+        throw InputError(here, "PLY header: expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
+    if (w[1] == "ascii") return Encoding::Ascii;
+    if (w[1] == "binary_little_endian") return Encoding::BinaryLE;
+    if (w[1] == "binary_big_endian") return Encoding::BinaryBE;
+    throw InputError(here, fmt::format("PLY format '{}' is not one of ascii, binary_little_endian, "
+                                       "binary_big_endian", w[1]));
+}
+
+Element parseElementLine(const std::vector<std::string_view>& w, const SourceLoc& here,
+                         const std::vector<Element>& elements) {
+    Element e;
+    if (w.size() != 3 || !parseCount(w[2], &e.count))
+        throw InputError(here, "PLY header: expected 'element <name> <count>' with a whole-number count");
+    e.name = std::string(w[1]);
+    e.line = here.line;
+    for (const auto& o : elements)
+        if (o.name == e.name) throw InputError(here, fmt::format("PLY header: element '{}' declared twice", e.name));
+    return e;
+}
+
+Property parsePropertyLine(const std::vector<std::string_view>& w, const SourceLoc& here, const Element& element) {
+    Property p;
+    if (w.size() == 5 && w[1] == "list") {
+        const auto ct = parseType(w[2]), it = parseType(w[3]);
+        if (!ct || !it || *ct == PlyType::Float || *ct == PlyType::Double)
+            throw InputError(here, fmt::format("PLY header: list types '{} {}' are not valid (an integer "
+                                               "count type, then any type)", w[2], w[3]));
+        p.isList = true;
+        p.countType = *ct;
+        p.type = *it;
+        p.name = std::string(w[4]);
+    } else if (w.size() == 3) {
+        const auto t = parseType(w[1]);
+        if (!t) throw InputError(here, fmt::format("PLY header: unknown property type '{}'", w[1]));
+        p.type = *t;
+        p.name = std::string(w[2]);
+    } else {
+        throw InputError(here, "PLY header: expected 'property <type> <name>' or 'property list <count type> "
+                               "<item type> <name>'");
+    }
+    for (const auto& o : element.props)
+        if (o.name == p.name) throw InputError(here, fmt::format("PLY header: property '{}' declared twice", p.name));
+    return p;
+}
+
+// The header: one keyword per line up to end_header.
+PlyHeader parseHeader(std::string_view data, const std::string& file) {
+    PlyHeader h;
     size_t pos = 0;
-    int lineNo = 0;
     bool ended = false;
     while (pos < data.size()) {
         const size_t nl = data.find('\n', pos);
         if (nl == std::string_view::npos) break;
         const std::string_view line = data.substr(pos, nl - pos);
         pos = nl + 1;
-        ++lineNo;
-        if (lineNo == 1) continue;  // "ply"
+        ++h.lines;
+        if (h.lines == 1) continue;  // "ply"
         const auto w = words(line);
-        const SourceLoc here{file, lineNo, 1};
+        const SourceLoc here{file, h.lines, 1};
         if (w.empty()) continue;
         if (w[0] == "end_header") {
             ended = true;
@@ -244,161 +291,151 @@ TriMesh parsePly(std::string_view data, const std::string& file, const PlyReadOp
         }
         if (w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "format") {
-            if (encoding) throw InputError(here, "PLY header: 'format' given twice");
-            if (w.size() != 3 || w[2] != "1.0")
-                throw InputError(here, "PLY header: expected 'format <ascii|binary_little_endian|binary_big_endian> 1.0'");
-            if (w[1] == "ascii") encoding = Encoding::Ascii;
-            else if (w[1] == "binary_little_endian") encoding = Encoding::BinaryLE;
-            else if (w[1] == "binary_big_endian") encoding = Encoding::BinaryBE;
-            else
-                throw InputError(here, fmt::format("PLY format '{}' is not one of ascii, binary_little_endian, "
-                                                   "binary_big_endian", w[1]));
+            if (h.encoding) throw InputError(here, "PLY header: 'format' given twice");
+            h.encoding = parseFormatLine(w, here);
         } else if (w[0] == "element") {
-            Element e;
-            if (w.size() != 3 || !parseCount(w[2], &e.count))
-                throw InputError(here, "PLY header: expected 'element <name> <count>' with a whole-number count");
-            e.name = std::string(w[1]);
-            e.line = lineNo;
-            for (const auto& o : elements)
-                if (o.name == e.name) throw InputError(here, fmt::format("PLY header: element '{}' declared twice", e.name));
-            elements.push_back(std::move(e));
+            h.elements.push_back(parseElementLine(w, here, h.elements));
         } else if (w[0] == "property") {
-            if (elements.empty()) throw InputError(here, "PLY header: 'property' before any 'element'");
-            Property p;
-            if (w.size() == 5 && w[1] == "list") {
-                const auto ct = parseType(w[2]), it = parseType(w[3]);
-                if (!ct || !it || *ct == PlyType::Float || *ct == PlyType::Double)
-                    throw InputError(here, fmt::format("PLY header: list types '{} {}' are not valid (an integer "
-                                                       "count type, then any type)", w[2], w[3]));
-                p.isList = true;
-                p.countType = *ct;
-                p.type = *it;
-                p.name = std::string(w[4]);
-            } else if (w.size() == 3) {
-                const auto t = parseType(w[1]);
-                if (!t) throw InputError(here, fmt::format("PLY header: unknown property type '{}'", w[1]));
-                p.type = *t;
-                p.name = std::string(w[2]);
-            } else {
-                throw InputError(here, "PLY header: expected 'property <type> <name>' or 'property list <count type> "
-                                       "<item type> <name>'");
-            }
-            for (const auto& o : elements.back().props)
-                if (o.name == p.name)
-                    throw InputError(here, fmt::format("PLY header: property '{}' declared twice", p.name));
-            elements.back().props.push_back(std::move(p));
+            if (h.elements.empty()) throw InputError(here, "PLY header: 'property' before any 'element'");
+            h.elements.back().props.push_back(parsePropertyLine(w, here, h.elements.back()));
         } else {
             throw InputError(here, fmt::format("PLY header: unknown keyword '{}'", w[0]));
         }
     }
     if (!ended) throw InputError(SourceLoc{file}, "PLY header has no end_header line (truncated or not a PLY file)");
-    if (!encoding) throw InputError(SourceLoc{file}, "PLY header has no 'format' line");
+    if (!h.encoding) throw InputError(SourceLoc{file}, "PLY header has no 'format' line");
+    h.bodyStart = pos;
+    return h;
+}
 
-    // ---- every declared count must fit in what the file holds, before anything is allocated ----
-    {
-        double minBytes = 0;
-        for (const auto& e : elements) {
-            double each = 0;
-            for (const auto& p : e.props)
-                each += *encoding == Encoding::Ascii ? 2.0 : static_cast<double>(typeSize(p.isList ? p.countType : p.type));
-            minBytes += each * static_cast<double>(e.count);
+// Every declared count must fit in what the file holds, before anything is allocated.
+void checkDeclaredSizes(const PlyHeader& h, std::string_view data, const std::string& file) {
+    const bool ascii = *h.encoding == Encoding::Ascii;
+    double minBytes = 0;
+    for (const auto& e : h.elements) {
+        double each = 0;
+        for (const auto& p : e.props)
+            each += ascii ? 2.0 : static_cast<double>(typeSize(p.isList ? p.countType : p.type));
+        minBytes += each * static_cast<double>(e.count);
+    }
+    // ASCII: one character and one separator per value, except that the last needs no separator.
+    const double payload = static_cast<double>(data.size() - h.bodyStart) + (ascii ? 1.0 : 0.0);
+    if (minBytes > payload) {
+        std::string what;
+        for (const auto& e : h.elements) what += fmt::format("{}{} {}", what.empty() ? "" : ", ", e.count, e.name);
+        throw InputError(SourceLoc{file}, fmt::format("PLY header declares {} elements, needing at least {:.0f} bytes "
+                                                      "of {} data, but the file holds only {} bytes after the "
+                                                      "header: truncated or corrupt",
+                                                      what, minBytes, ascii ? "ascii" : "binary",
+                                                      data.size() - h.bodyStart));
+    }
+}
+
+void readVertices(const Element& e, Reader& r, const std::string& file, const PlyReadOptions& options, TriMesh& m) {
+    int ix = -1, iy = -1, iz = -1;
+    for (size_t k = 0; k < e.props.size(); ++k) {
+        if (e.props[k].isList) continue;
+        if (e.props[k].name == "x") ix = static_cast<int>(k);
+        if (e.props[k].name == "y") iy = static_cast<int>(k);
+        if (e.props[k].name == "z") iz = static_cast<int>(k);
+    }
+    if (ix < 0 || iy < 0 || iz < 0)
+        throw InputError(SourceLoc{file, e.line, 1}, "PLY vertex element lacks a scalar x, y or z property");
+    if (e.count > std::numeric_limits<uint32_t>::max())
+        throw InputError(SourceLoc{file, e.line, 1}, fmt::format("{} vertices: at most 2^32 - 1 supported", e.count));
+    m.positions.resize(e.count);
+    for (uint64_t i = 0; i < e.count; ++i) {
+        for (size_t k = 0; k < e.props.size(); ++k) {
+            const auto& p = e.props[k];
+            if (p.isList) {
+                const uint64_t n = r.readCount(p.countType, r.remaining(), "a vertex list length");
+                for (uint64_t j = 0; j < n; ++j) r.read(p.type, "a vertex list");
+                continue;
+            }
+            const double v = r.read(p.type, fmt::format("vertex {}", i));
+            if (static_cast<int>(k) == ix) m.positions[i].x = v;
+            else if (static_cast<int>(k) == iy) m.positions[i].y = v;
+            else if (static_cast<int>(k) == iz) m.positions[i].z = v;
         }
-        // ASCII: one character and one separator per value, except that the last needs no separator.
-        const double payload = static_cast<double>(data.size() - pos) + (*encoding == Encoding::Ascii ? 1.0 : 0.0);
-        if (minBytes > payload) {
-            std::string what;
-            for (const auto& e : elements) what += fmt::format("{}{} {}", what.empty() ? "" : ", ", e.count, e.name);
-            throw InputError(SourceLoc{file}, fmt::format("PLY header declares {} elements, needing at least {:.0f} bytes "
-                                                          "of {} data, but the file holds only {} bytes after the "
-                                                          "header: truncated or corrupt",
-                                                          what, minBytes,
-                                                          *encoding == Encoding::Ascii ? "ascii" : "binary",
-                                                          data.size() - pos));
+        if (!options.allowNonFinite && !isFinite(m.positions[i]))
+            throw InputError(SourceLoc{file}, fmt::format("PLY vertex {} has a non-finite coordinate ({}, {}, {})", i,
+                                                          m.positions[i].x, m.positions[i].y, m.positions[i].z));
+    }
+}
+
+bool isIndexList(const Property& p) { return p.name == "vertex_indices" || p.name == "vertex_index"; }
+
+// Faces, fanned into triangles; sets *sawMaterial if the faces carry a material.
+void readFaces(const Element& e, Reader& r, const std::string& file, TriMesh& m, bool* sawMaterial) {
+    bool hasIndices = false;
+    for (const auto& p : e.props) hasIndices = hasIndices || (p.isList && isIndexList(p));
+    if (!hasIndices) throw InputError(SourceLoc{file, e.line, 1}, "PLY face element lacks a 'vertex_indices' list property");
+    for (uint64_t i = 0; i < e.count; ++i) {
+        std::vector<uint32_t> idx;
+        uint16_t mat = 0;
+        for (const auto& p : e.props) {
+            const bool indices = isIndexList(p);
+            if (p.isList) {
+                const uint64_t n = r.readCount(p.countType, indices ? 1000 : r.remaining(),
+                                               fmt::format("the corner count of face {}", i));
+                for (uint64_t j = 0; j < n; ++j) {
+                    if (!indices) {
+                        r.read(p.type, fmt::format("face {}", i));
+                        continue;
+                    }
+                    idx.push_back(static_cast<uint32_t>(r.readCount(p.type, std::numeric_limits<uint32_t>::max(),
+                                                                    fmt::format("a vertex index of face {}", i))));
+                }
+            } else if (p.name == "material") {
+                mat = static_cast<uint16_t>(r.readCount(p.type, 65535, fmt::format("the material of face {}", i)));
+                *sawMaterial = true;
+            } else {
+                r.read(p.type, fmt::format("face {}", i));
+            }
+        }
+        if (idx.size() < 3)
+            throw InputError(SourceLoc{file}, fmt::format("PLY face {} has {} corners; at least 3 needed", i, idx.size()));
+        for (size_t j = 1; j + 1 < idx.size(); ++j) {
+            m.triangles.push_back({idx[0], idx[j], idx[j + 1]});
+            m.faceMaterial.push_back(mat);
         }
     }
+}
+
+// An element Littoral does not use: its values are read (and so checked) and dropped.
+void skipElement(const Element& e, Reader& r) {
+    for (uint64_t i = 0; i < e.count; ++i)
+        for (const auto& p : e.props) {
+            if (p.isList) {
+                const uint64_t n = r.readCount(p.countType, r.remaining(), "a list length of element " + e.name);
+                for (uint64_t j = 0; j < n; ++j) r.read(p.type, "element " + e.name);
+            } else {
+                r.read(p.type, "element " + e.name);
+            }
+        }
+}
+
+}  // namespace
+
+TriMesh parsePly(std::string_view data, const std::string& file, const PlyReadOptions& options) {
+    if (data.empty()) throw InputError(SourceLoc{file}, "PLY file is empty (0 bytes)");
+    if (data.substr(0, 4) != "ply\n" && data.substr(0, 5) != "ply\r\n")
+        throw InputError(SourceLoc{file, 1, 1}, "not a PLY file (the first line must be 'ply')");
+    const PlyHeader h = parseHeader(data, file);
+    checkDeclaredSizes(h, data, file);
 
     TriMesh m;
-    Reader r(data, pos, *encoding, file, lineNo + 1);
+    Reader r(data, h.bodyStart, *h.encoding, file, h.lines + 1);
     bool sawMaterial = false, sawVertex = false;
-    for (const auto& e : elements) {
+    for (const auto& e : h.elements) {
         if (e.props.empty()) continue;  // nothing stored per element
         if (e.name == "vertex") {
             sawVertex = true;
-            int ix = -1, iy = -1, iz = -1;
-            for (size_t k = 0; k < e.props.size(); ++k) {
-                if (e.props[k].isList) continue;
-                if (e.props[k].name == "x") ix = static_cast<int>(k);
-                if (e.props[k].name == "y") iy = static_cast<int>(k);
-                if (e.props[k].name == "z") iz = static_cast<int>(k);
-            }
-            if (ix < 0 || iy < 0 || iz < 0)
-                throw InputError(SourceLoc{file, e.line, 1}, "PLY vertex element lacks a scalar x, y or z property");
-            if (e.count > std::numeric_limits<uint32_t>::max())
-                throw InputError(SourceLoc{file, e.line, 1}, fmt::format("{} vertices: at most 2^32 - 1 supported", e.count));
-            m.positions.resize(e.count);
-            for (uint64_t i = 0; i < e.count; ++i) {
-                for (size_t k = 0; k < e.props.size(); ++k) {
-                    const auto& p = e.props[k];
-                    if (p.isList) {
-                        const uint64_t n = r.readCount(p.countType, r.remaining(), "a vertex list length");
-                        for (uint64_t j = 0; j < n; ++j) r.read(p.type, "a vertex list");
-                        continue;
-                    }
-                    const double v = r.read(p.type, fmt::format("vertex {}", i));
-                    if (static_cast<int>(k) == ix) m.positions[i].x = v;
-                    else if (static_cast<int>(k) == iy) m.positions[i].y = v;
-                    else if (static_cast<int>(k) == iz) m.positions[i].z = v;
-                }
-                if (!options.allowNonFinite && !isFinite(m.positions[i]))
-                    throw InputError(SourceLoc{file}, fmt::format("PLY vertex {} has a non-finite coordinate ({}, {}, {})",
-                                                                  i, m.positions[i].x, m.positions[i].y,
-                                                                  m.positions[i].z));
-            }
+            readVertices(e, r, file, options, m);
         } else if (e.name == "face") {
-            bool hasIndices = false;
-            for (const auto& p : e.props) hasIndices = hasIndices || (p.isList && (p.name == "vertex_indices" || p.name == "vertex_index"));
-            if (!hasIndices)
-                throw InputError(SourceLoc{file, e.line, 1}, "PLY face element lacks a 'vertex_indices' list property");
-            for (uint64_t i = 0; i < e.count; ++i) {
-                std::vector<uint32_t> idx;
-                uint16_t mat = 0;
-                for (const auto& p : e.props) {
-                    const bool indices = p.name == "vertex_indices" || p.name == "vertex_index";
-                    if (p.isList) {
-                        const uint64_t n = r.readCount(p.countType, indices ? 1000 : r.remaining(),
-                                                       fmt::format("the corner count of face {}", i));
-                        for (uint64_t j = 0; j < n; ++j) {
-                            if (!indices) {
-                                r.read(p.type, fmt::format("face {}", i));
-                                continue;
-                            }
-                            idx.push_back(static_cast<uint32_t>(
-                                r.readCount(p.type, std::numeric_limits<uint32_t>::max(), fmt::format("a vertex index of face {}", i))));
-                        }
-                    } else if (p.name == "material") {
-                        mat = static_cast<uint16_t>(r.readCount(p.type, 65535, fmt::format("the material of face {}", i)));
-                        sawMaterial = true;
-                    } else {
-                        r.read(p.type, fmt::format("face {}", i));
-                    }
-                }
-                if (idx.size() < 3)
-                    throw InputError(SourceLoc{file}, fmt::format("PLY face {} has {} corners; at least 3 needed", i, idx.size()));
-                for (size_t j = 1; j + 1 < idx.size(); ++j) {
-                    m.triangles.push_back({idx[0], idx[j], idx[j + 1]});
-                    m.faceMaterial.push_back(mat);
-                }
-            }
+            readFaces(e, r, file, m, &sawMaterial);
         } else {
-            for (uint64_t i = 0; i < e.count; ++i)
-                for (const auto& p : e.props) {
-                    if (p.isList) {
-                        const uint64_t n = r.readCount(p.countType, r.remaining(), "a list length of element " + e.name);
-                        for (uint64_t j = 0; j < n; ++j) r.read(p.type, "element " + e.name);
-                    } else {
-                        r.read(p.type, "element " + e.name);
-                    }
-                }
+            skipElement(e, r);
         }
     }
     if (!sawVertex && !m.triangles.empty()) throw InputError(SourceLoc{file}, "PLY file has faces but no vertex element");

@@ -231,7 +231,12 @@ double deltaTEstimate(double y) {
     return -20.0 + 32.0 * u * u;
 }
 
-SolarPosition solarPosition(const SolarPositionInput& in) {
+namespace {
+
+// The steps of solarPosition: Reda & Andreas (2004), section 3, numbered as there. Each step
+// records its results in the SolarPosition, where the later steps read them.
+
+void checkSolarInput(const SolarPositionInput& in) {
     require(in.year >= -2000 && in.year <= 6000,
             fmt::format("year {} is outside the algorithm's valid range -2000..6000", in.year));
     require(in.month >= 1 && in.month <= 12, fmt::format("month {} is not in 1..12", in.month));
@@ -253,11 +258,16 @@ SolarPosition solarPosition(const SolarPositionInput& in) {
     require(in.pressureMbar >= 0 && in.pressureMbar <= 5000, fmt::format("pressure {} mbar is not in [0, 5000]", in.pressureMbar));
     require(in.temperatureC > -273 && in.temperatureC <= 6000, fmt::format("temperature {} C is not in (-273, 6000]", in.temperatureC));
     require(std::abs(in.atmosRefractionDeg) <= 5, fmt::format("horizon refraction {} deg is not in [-5, 5]", in.atmosRefractionDeg));
+}
 
-    SolarPosition out;
-    const double lat = in.latitudeDeg, lon = in.longitudeDeg;
+struct TimeScales {
+    double jd, jde;     // Julian Day, Julian Ephemeris Day
+    double jc, jce;     // Julian century, Julian ephemeris century
+    double jme;         // Julian ephemeris millennium
+};
 
-    // 3.1 Time scales. The day fraction is UT: local time minus the zone offset.
+// 3.1 Time scales. The day fraction is UT: local time minus the zone offset.
+TimeScales timeScales(const SolarPositionInput& in) {
     const double dayFrac = in.day + (in.hour - in.timezoneHours + (in.minute + in.second / 60.0) / 60.0) / 24.0;
     const double jd = julianDay(in.year, in.month, dayFrac);
     const double deltaT = std::isnan(in.deltaTSeconds)
@@ -267,26 +277,22 @@ SolarPosition solarPosition(const SolarPositionInput& in) {
     const double jc = (jd - 2451545.0) / 36525.0;             // eq. 6
     const double jce = (jde - 2451545.0) / 36525.0;           // eq. 7
     const double jme = jce / 10.0;                            // eq. 8
-    out.julianDay = jd;
-    out.julianEphemerisDay = jde;
+    return {jd, jde, jc, jce, jme};
+}
 
-    // 3.2 Earth heliocentric longitude, latitude, radius vector (eqs. 9-12).
+// 3.2 Earth heliocentric longitude, latitude, radius vector (eqs. 9-12).
+void heliocentricPosition(double jme, SolarPosition& out) {
     const double jme2 = jme * jme, jme3 = jme2 * jme, jme4 = jme3 * jme, jme5 = jme4 * jme;
     const double Lrad = (series(L0, jme) + series(L1, jme) * jme + series(L2, jme) * jme2 +
                          series(L3, jme) * jme3 + series(L4, jme) * jme4 + series(L5, jme) * jme5) / 1e8;
-    const double L = wrap360(rad2deg(Lrad));
-    const double B = rad2deg((series(B0, jme) + series(B1, jme) * jme) / 1e8);
-    const double R = (series(R0, jme) + series(R1, jme) * jme + series(R2, jme) * jme2 + series(R3, jme) * jme3 +
-                      series(R4, jme) * jme4) / 1e8;
-    out.heliocentricLongitude = L;
-    out.heliocentricLatitude = B;
-    out.earthRadiusVectorAu = R;
+    out.heliocentricLongitude = wrap360(rad2deg(Lrad));
+    out.heliocentricLatitude = rad2deg((series(B0, jme) + series(B1, jme) * jme) / 1e8);
+    out.earthRadiusVectorAu = (series(R0, jme) + series(R1, jme) * jme + series(R2, jme) * jme2 +
+                               series(R3, jme) * jme3 + series(R4, jme) * jme4) / 1e8;
+}
 
-    // 3.3 Geocentric longitude and latitude (eqs. 13-14).
-    const double theta = wrap360(L + 180.0);
-    const double beta = -B;
-
-    // 3.4 Nutation (eqs. 15-23): fundamental arguments in degrees.
+// 3.4 Nutation (eqs. 15-23): fundamental arguments in degrees.
+void nutation(double jce, SolarPosition& out) {
     const double jce2 = jce * jce, jce3 = jce2 * jce;
     const double X[5] = {
         297.85036 + 445267.111480 * jce - 0.0019142 * jce2 + jce3 / 189474.0,  // mean elongation Moon-Sun
@@ -301,54 +307,68 @@ SolarPosition solarPosition(const SolarPositionInput& in) {
         dPsi += (t.a + t.b * jce) * sind(arg);
         dEps += (t.c + t.d * jce) * cosd(arg);
     }
-    dPsi /= 36000000.0;  // 0.0001 arcsec -> degrees
-    dEps /= 36000000.0;
-    out.nutationLongitude = dPsi;
-    out.nutationObliquity = dEps;
+    out.nutationLongitude = dPsi / 36000000.0;  // 0.0001 arcsec -> degrees
+    out.nutationObliquity = dEps / 36000000.0;
+}
 
-    // 3.5 True obliquity of the ecliptic (eqs. 24-25, Laskar 1986 polynomial in arcsec).
+// 3.5 True obliquity of the ecliptic (eqs. 24-25, Laskar 1986 polynomial in arcsec).
+void trueObliquity(double jme, SolarPosition& out) {
     const double U = jme / 10.0;
     const double eps0 = 84381.448 +
                         U * (-4680.93 + U * (-1.55 + U * (1999.25 + U * (-51.38 + U * (-249.67 +
                         U * (-39.05 + U * (7.12 + U * (27.87 + U * (5.79 + U * 2.45)))))))));
-    const double eps = eps0 / 3600.0 + dEps;
-    out.trueObliquity = eps;
+    out.trueObliquity = eps0 / 3600.0 + out.nutationObliquity;
+}
+
+// 3.3 and 3.6-3.10: the geocentric Sun, its apparent longitude and the sidereal time.
+void geocentricSun(const TimeScales& ts, SolarPosition& out) {
+    // 3.3 Geocentric longitude and latitude (eqs. 13-14).
+    const double theta = wrap360(out.heliocentricLongitude + 180.0);
+    const double beta = -out.heliocentricLatitude;
+    const double dPsi = out.nutationLongitude, eps = out.trueObliquity;
 
     // 3.6-3.7 Aberration and apparent Sun longitude (eqs. 26-27).
-    const double dTau = -20.4898 / (3600.0 * R);
+    const double dTau = -20.4898 / (3600.0 * out.earthRadiusVectorAu);
     const double lambda = theta + dPsi + dTau;
     out.apparentSunLongitude = lambda;
 
     // 3.8 Apparent sidereal time at Greenwich (eqs. 28-29).
-    const double nu0 = wrap360(280.46061837 + 360.98564736629 * (jd - 2451545.0) + 0.000387933 * jc * jc -
+    const double jc = ts.jc;
+    const double nu0 = wrap360(280.46061837 + 360.98564736629 * (ts.jd - 2451545.0) + 0.000387933 * jc * jc -
                                jc * jc * jc / 38710000.0);
-    const double nu = nu0 + dPsi * cosd(eps);
-    out.apparentSiderealTime = nu;
+    out.apparentSiderealTime = nu0 + dPsi * cosd(eps);
 
     // 3.9-3.10 Geocentric right ascension and declination (eqs. 30-31).
-    const double alpha = wrap360(rad2deg(std::atan2(sind(lambda) * cosd(eps) - tand(beta) * sind(eps), cosd(lambda))));
-    const double delta = rad2deg(std::asin(sind(beta) * cosd(eps) + cosd(beta) * sind(eps) * sind(lambda)));
-    out.geocentricRightAscension = alpha;
-    out.geocentricDeclination = delta;
+    out.geocentricRightAscension =
+        wrap360(rad2deg(std::atan2(sind(lambda) * cosd(eps) - tand(beta) * sind(eps), cosd(lambda))));
+    out.geocentricDeclination = rad2deg(std::asin(sind(beta) * cosd(eps) + cosd(beta) * sind(eps) * sind(lambda)));
+}
 
+// 3.11-3.12 The observer's hour angle, and the topocentric right ascension, declination and hour
+// angle: parallax (eqs. 32-39).
+void topocentricSun(const SolarPositionInput& in, SolarPosition& out) {
+    const double lat = in.latitudeDeg, lon = in.longitudeDeg;
+    const double alpha = out.geocentricRightAscension, delta = out.geocentricDeclination;
     // 3.11 Observer local hour angle, westward from south (eq. 32).
-    const double H = wrap360(nu + lon - alpha);
+    const double H = wrap360(out.apparentSiderealTime + lon - alpha);
     out.observerHourAngle = H;
 
     // 3.12 Topocentric right ascension and declination: parallax (eqs. 33-38).
-    const double xi = 8.794 / (3600.0 * R);
+    const double xi = 8.794 / (3600.0 * out.earthRadiusVectorAu);
     const double u = std::atan(0.99664719 * tand(lat));  // rad
     const double x = std::cos(u) + in.elevationM / 6378140.0 * cosd(lat);
     const double y = 0.99664719 * std::sin(u) + in.elevationM / 6378140.0 * sind(lat);
     const double dAlpha = rad2deg(std::atan2(-x * sind(xi) * sind(H), cosd(delta) - x * sind(xi) * cosd(H)));
-    const double alphaP = alpha + dAlpha;
-    const double deltaP = rad2deg(std::atan2((sind(delta) - y * sind(xi)) * cosd(dAlpha),
-                                             cosd(delta) - x * sind(xi) * cosd(H)));
-    const double Hp = H - dAlpha;  // eq. 39
-    out.topocentricRightAscension = alphaP;
-    out.topocentricDeclination = deltaP;
-    out.topocentricHourAngle = Hp;
+    out.topocentricRightAscension = alpha + dAlpha;
+    out.topocentricDeclination = rad2deg(std::atan2((sind(delta) - y * sind(xi)) * cosd(dAlpha),
+                                                    cosd(delta) - x * sind(xi) * cosd(H)));
+    out.topocentricHourAngle = H - dAlpha;  // eq. 39
+}
 
+// 3.14-3.15 Topocentric elevation, zenith and azimuth.
+void topocentricAngles(const SolarPositionInput& in, SolarPosition& out) {
+    const double lat = in.latitudeDeg;
+    const double deltaP = out.topocentricDeclination, Hp = out.topocentricHourAngle;
     // 3.14 Topocentric elevation without atmosphere, refraction, zenith (eqs. 40-44). The
     // correction applies only while the Sun is above -(solar radius 0.26667 + horizon refraction).
     const double e0 = rad2deg(std::asin(sind(lat) * sind(deltaP) + cosd(lat) * cosd(deltaP) * cosd(Hp)));
@@ -364,6 +384,22 @@ SolarPosition solarPosition(const SolarPositionInput& in) {
     // north (eqs. 45-46).
     const double gamma = wrap360(rad2deg(std::atan2(sind(Hp), cosd(Hp) * sind(lat) - tand(deltaP) * cosd(lat))));
     out.azimuthDeg = wrap360(gamma + 180.0);
+}
+
+}  // namespace
+
+SolarPosition solarPosition(const SolarPositionInput& in) {
+    checkSolarInput(in);
+    SolarPosition out;
+    const TimeScales ts = timeScales(in);
+    out.julianDay = ts.jd;
+    out.julianEphemerisDay = ts.jde;
+    heliocentricPosition(ts.jme, out);
+    nutation(ts.jce, out);
+    trueObliquity(ts.jme, out);
+    geocentricSun(ts, out);
+    topocentricSun(in, out);
+    topocentricAngles(in, out);
     return out;
 }
 

@@ -1,8 +1,12 @@
 #include "scenegen/assemble.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <memory>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -112,6 +116,437 @@ nlohmann::json meshSummary(const TriMesh& m) {
     return j;
 }
 
+// The geometry sections of the scene file (applyCommonSections parses the others).
+struct GeometrySpecs {
+    BathymetrySpec bathy;
+    std::vector<ObjectSpec> objects;
+    std::optional<TextureClassesSpec> classes;
+};
+
+GeometrySpecs parseGeometrySections(const SceneSpec& spec) {
+    if (!spec.bathymetry)
+        throw InputError(SourceLoc{spec.file.string()}, "the scene has no 'bathymetry' section; a coastal scene needs "
+                                                        "a seabed (e.g. bathymetry: {type: planar_slope, ...})");
+    GeometrySpecs g{parseBathymetry(*spec.bathymetry),
+                    spec.objects ? parseObjects(*spec.objects) : std::vector<ObjectSpec>{}, std::nullopt};
+    if (spec.textureClasses) g.classes = parseTextureClasses(*spec.textureClasses);
+    return g;
+}
+
+// The names of the IR's materials, and those of the materials section's dielectrics: each names
+// the medium inside the objects that use it (scene_file.cpp made both).
+struct MaterialNames {
+    std::set<std::string> known;
+    std::set<std::string> dielectrics;
+
+    void add(const ir::Material& m, ir::SceneIR* ir) {
+        ir->materials.push_back(m);
+        known.insert(m.name);
+    }
+};
+
+MaterialNames materialNames(const SceneSpec& spec, const ir::SceneIR& ir) {
+    MaterialNames names;
+    for (const auto& m : ir.materials) names.known.insert(m.name);
+    for (const auto& m : spec.materials)
+        if (m.type == "dielectric") names.dielectrics.insert(m.name);
+    return names;
+}
+
+// The dielectric an object is filled with, or "" for an opaque object. Every material it names
+// must exist, and a transparent object is filled with one dielectric only.
+std::string objectMedium(const ObjectSpec& o, const MaterialNames& names) {
+    std::string medium;
+    for (const auto& m : o.materials) {
+        if (!names.known.count(m))
+            throw InputError(o.loc, fmt::format("object '{}': material '{}' is not defined under 'materials' or "
+                                                "texture_classes",
+                                                o.name, m));
+        if (!names.dielectrics.count(m) || m == medium) continue;
+        if (!medium.empty())
+            throw InputError(o.loc, fmt::format("object '{}' uses two dielectrics, '{}' and '{}'; an object is "
+                                                "filled with one medium (split it into two objects)",
+                                                o.name, medium, m));
+        medium = m;
+    }
+    return medium;
+}
+
+// The water's faces against a transparent object are the interface between the water and the
+// object's medium: they move from `wv.water` to a mesh of their own per dielectric, returned by
+// the dielectric's name (the object mesh keeps only its dry faces).
+std::map<std::string, TriMesh> splitContactFaces(WaterVolumeResult& wv, const std::set<std::string>& dielectrics) {
+    std::map<std::string, TriMesh> contact;
+    TriMesh rest;
+    rest.positions = wv.water.positions;
+    std::vector<std::string> restMaterials;
+    std::map<uint16_t, uint16_t> restSlot;
+    for (size_t f = 0; f < wv.water.triangles.size(); ++f) {
+        const uint16_t slot = wv.water.faceMaterial[f];
+        const std::string& name = wv.waterMaterials[slot];
+        if (dielectrics.count(name)) {
+            TriMesh& c = contact[name];
+            if (c.positions.empty()) c.positions = wv.water.positions;
+            c.triangles.push_back(wv.water.triangles[f]);
+            c.faceMaterial.push_back(0);
+            continue;
+        }
+        auto [it, inserted] = restSlot.try_emplace(slot, static_cast<uint16_t>(restMaterials.size()));
+        if (inserted) restMaterials.push_back(name);
+        rest.triangles.push_back(wv.water.triangles[f]);
+        rest.faceMaterial.push_back(it->second);
+    }
+    if (!contact.empty()) {
+        compactVertices(rest);
+        for (auto& [name, c] : contact) compactVertices(c);
+        wv.water = std::move(rest);
+        wv.waterMaterials = std::move(restMaterials);
+    }
+    return contact;
+}
+
+// The IR meshes of the water: "water" (closed when the whole body passed its checks) and one
+// "water-<dielectric>" per transparent object's medium it touches, whose outside is that medium.
+void addWaterMeshes(TriMesh water, const std::vector<std::string>& materials, std::map<std::string, TriMesh> contact,
+                    bool closed, ir::SceneIR* ir) {
+    ir::Mesh wm;
+    wm.name = "water";
+    wm.file = "meshes/water.ply";
+    wm.materials = materials;
+    wm.inside = "water";
+    wm.outside = "";
+    wm.closed = closed;
+    wm.data = std::move(water);
+    ir->meshes.push_back(std::move(wm));
+    for (auto& [name, c] : contact) {
+        ir::Mesh cm;
+        cm.name = "water-" + name;
+        cm.file = "meshes/water-" + name + ".ply";
+        cm.materials = {name};
+        cm.inside = "water";
+        cm.outside = name;
+        cm.closed = false;
+        cm.data = std::move(c);
+        ir->meshes.push_back(std::move(cm));
+    }
+}
+
+// One scene being assembled: the stages of assembleScene, in order, each using what the stages
+// before it made.
+class Assembly {
+public:
+    Assembly(const SceneSpec& spec, const AssembleOptions& opt)
+        : spec_(spec), opt_(opt), domain_{spec.scene.x0, spec.scene.y0, spec.scene.x1, spec.scene.y1} {}
+
+    AssembledScene run();
+
+private:
+    void addGeoFrame();
+    std::vector<std::string> terrainMaterials();
+    std::string addTextureClassMaterials();
+    void buildTerrain();
+    void placeObjects();
+    TriMesh waterSurface(ir::Material* interface);
+    void buildWater();
+    bool checkWater(const WaterVolumeResult& wv);
+    void keepDryParts(std::vector<TriMesh>& dryParts);
+    void buildLandWithoutWater();
+    void addLandMesh();
+    void addObjectMeshes();
+    void addTextureClassStatistics();
+    void checkSensors() const;
+
+    const SceneSpec& spec_;
+    const AssembleOptions& opt_;
+    const bathymetry::Extent domain_;
+    AssembledScene out_;
+    ir::SceneIR& ir_ = out_.ir;
+    GeometrySpecs geometry_;
+    std::optional<bathymetry::GeoFrame> frame_;
+    MaterialNames names_;
+    std::vector<std::string> terrainMaterials_;
+    std::unique_ptr<bathymetry::Terrain> terrain_;
+    std::function<double(double, double)> elevation_;
+    std::vector<PlacedObject> placed_;
+    std::vector<std::string> objectMedium_;  // per object: its dielectric's medium, or "" (opaque)
+    std::map<size_t, TriMesh> wholeSolids_;  // transparent objects in water: the closed solid
+    nlohmann::json validity_;
+    TriMesh land_;
+    bool valid_ = true;
+};
+
+AssembledScene Assembly::run() {
+    applyCommonSections(spec_, &ir_);
+    checkRenderMemory(spec_, ir_);  // before any geometry: refuse an impossible render at once
+
+    auto t = Clock::now();
+    geometry_ = parseGeometrySections(spec_);
+    out_.seconds.parse = since(t);
+    addGeoFrame();
+    names_ = materialNames(spec_, ir_);
+
+    t = Clock::now();
+    terrainMaterials_ = terrainMaterials();
+    out_.seconds.textures = since(t);
+
+    t = Clock::now();
+    buildTerrain();
+    out_.seconds.terrain = since(t);
+
+    t = Clock::now();
+    placeObjects();
+    out_.seconds.objects = since(t);
+
+    validity_["scene"] = spec_.file.filename().string();
+    if (spec_.hasWater) buildWater();
+    else buildLandWithoutWater();
+
+    t = Clock::now();
+    addLandMesh();
+    addObjectMeshes();
+    out_.seconds.validity += since(t);
+    addTextureClassStatistics();
+    validity_["valid"] = valid_;
+    validity_["seconds"] = out_.seconds.toJson();
+    out_.validity = std::move(validity_);
+    out_.valid = valid_;
+    checkSensors();
+    ir_.metadata["generator"] = "littoral build";
+    return std::move(out_);
+}
+
+void Assembly::addGeoFrame() {
+    if (!spec_.scene.origin) return;
+    const auto& o = *spec_.scene.origin;
+    frame_ = geometry_.bathy.utmFrame ? bathymetry::GeoFrame::utm(o.latitude, o.longitude, o.altitude)
+                                      : bathymetry::GeoFrame::localCartesian(o.latitude, o.longitude, o.altitude);
+    ir_.metadata["geo_frame"] = frame_->describe();
+}
+
+// The ground's material slots: the classified material of texture_classes, or bathymetry.material.
+std::vector<std::string> Assembly::terrainMaterials() {
+    const BathymetrySpec& bathy = geometry_.bathy;
+    if (geometry_.classes) {
+        const std::string classified = addTextureClassMaterials();
+        if (!bathy.material.empty())
+            throw InputError(bathy.loc, "bathymetry.material is not used when texture_classes assigns the ground "
+                                        "materials; remove it");
+        return {classified};
+    }
+    if (bathy.material.empty())
+        throw InputError(bathy.loc, "bathymetry: name the ground material with 'material' (one of 'materials') or "
+                                    "add a texture_classes section");
+    if (!names_.known.count(bathy.material))
+        throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'",
+                                                bathy.material));
+    if (names_.dielectrics.count(bathy.material))
+        throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is a dielectric; the ground must be "
+                                                "opaque (dielectrics are for objects)",
+                                                bathy.material));
+    return {bathy.material};
+}
+
+// Builds the texture classes, adds a material per class and the classified material of the
+// ground's faces, and returns the latter's name.
+std::string Assembly::addTextureClassMaterials() {
+    const TextureClassesSpec& classes = *geometry_.classes;
+    out_.textures = buildTextureClasses(classes, domain_);
+    for (const auto& m : out_.textures->materials()) {
+        if (names_.known.count(m.name))
+            throw InputError(classes.loc, fmt::format("texture class '{}' has the name of a material already "
+                                                      "defined under 'materials'",
+                                                      m.name));
+        names_.add(m, &ir_);
+    }
+    // The ground's faces carry one classified material: the renderer looks the class up where
+    // each ray lands, so class boundaries are as sharp as the map whatever the terrain grid.
+    const ir::Material classified = out_.textures->classifiedMaterial("texture-classes");
+    if (names_.known.count(classified.name))
+        throw InputError(classes.loc, fmt::format("'{}' is the name of the material Littoral makes for the "
+                                                  "class map; rename the material or class that uses it",
+                                                  classified.name));
+    names_.add(classified, &ir_);
+    return classified.name;
+}
+
+void Assembly::buildTerrain() {
+    const BathymetrySpec& bathy = geometry_.bathy;
+    const double margin = 3 * bathy.spacing + 1.0;
+    const bathymetry::Extent grown{domain_.x0 - margin, domain_.y0 - margin, domain_.x1 + margin,
+                                   domain_.y1 + margin};
+    terrain_ = makeTerrain(bathy, grown, frame_ ? &*frame_ : nullptr);
+    const bathymetry::Extent tex = terrain_->extent();
+    const bathymetry::Terrain* tp = terrain_.get();
+    // Outside its extent a terrain is clamped to the nearest point of the extent (rasters do this
+    // themselves; a TIN would otherwise refuse the margin the booleans need around the domain).
+    elevation_ = [tp, tex](double x, double y) {
+        return tp->elevation(std::clamp(x, tex.x0, tex.x1), std::clamp(y, tex.y0, tex.y1));
+    };
+    ir_.metadata["terrain"] = terrain_->describe();
+}
+
+void Assembly::placeObjects() {
+    for (const auto& o : geometry_.objects) {
+        const std::string medium = objectMedium(o, names_);
+        objectMedium_.push_back(medium);
+        placed_.push_back(loadObject(o, frame_ ? &*frame_ : nullptr, spec_.waterLevel));
+        placed_.back().solid.keepDryPart = !medium.empty();
+    }
+    std::vector<const TriMesh*> meshes;
+    for (const auto& p : placed_) meshes.push_back(&p.solid.mesh);
+    checkObjectPlacement(geometry_.objects, meshes, domain_);
+}
+
+// The air-water interface at the water level, from water.surface (flat without it). With
+// water.surface.roughness, `interface` becomes the rough interface.
+TriMesh Assembly::waterSurface(ir::Material* interface) {
+    surfaces::WaveParams wp;
+    if (spec_.waterSurface) {
+        wp = parseWaterSurface(*spec_.waterSurface);
+        checkSurfaceCoverage(wp, domain_, spec_.waterSurface->loc());
+        if (auto rough = parseSurfaceRoughness(*spec_.waterSurface, wp, interface->name)) *interface = *rough;
+    } else {
+        wp = defaultWaterSurface(domain_);
+    }
+    if (opt_.surfaceTriangles) wp.triangles = *opt_.surfaceTriangles;
+    const surfaces::WaveSurface ws = surfaces::generateWaveSurface(wp);
+    TriMesh surface = ws.mesh;
+    for (auto& p : surface.positions) p.z += spec_.waterLevel;
+    ir_.metadata["water.surface"] = ws.description;
+    ir_.metadata["water.surface.rms_height_m"] = fmt::format("{:.6g}", ws.actual.rmsHeight);
+    return surface;
+}
+
+// The closed water body with the objects subtracted, checked, into the IR; the land is what of
+// the terrain lies above the water.
+void Assembly::buildWater() {
+    auto t = Clock::now();
+    ir::Material interface = interfaceMaterial();
+    WaterVolumeInput in;
+    in.surface = waterSurface(&interface);
+    out_.seconds.surface = since(t);
+
+    in.domain = domain_;
+    in.elevation = elevation_;
+    in.terrainSpacing = geometry_.bathy.spacing;
+    in.terrainMaterials = terrainMaterials_;
+    in.interfaceMaterial = interface.name;
+    in.wallMaterial = wallMaterial(spec_.periodic).name;
+    for (const auto& p : placed_) in.solids.push_back(p.solid);
+    WaterVolumeResult wv = buildWaterVolume(in);
+    out_.seconds.waterPrism = wv.secondsPrism;
+    out_.seconds.waterTerrain = wv.secondsTerrain;
+    out_.seconds.waterBoolean = wv.secondsBoolean;
+    out_.seconds.waterSolids = wv.secondsSolids;
+    for (const auto& m : {interface, wallMaterial(spec_.periodic)})
+        if (!names_.known.count(m.name)) names_.add(m, &ir_);
+
+    t = Clock::now();
+    const bool closed = checkWater(wv);  // the whole body, before its contact faces move
+    out_.seconds.validity += since(t);
+
+    std::map<std::string, TriMesh> contact = splitContactFaces(wv, names_.dielectrics);
+    addWaterMeshes(std::move(wv.water), wv.waterMaterials, std::move(contact), closed, &ir_);
+    keepDryParts(wv.dryParts);
+    for (size_t i = 0; i < placed_.size(); ++i) {
+        validity_["objects"][placed_[i].solid.name]["displaced_water_m3"] = wv.displaced[i];
+    }
+    land_ = std::move(wv.land);
+}
+
+// Checks the water body and records the report in validity.json; true if it passed.
+bool Assembly::checkWater(const WaterVolumeResult& wv) {
+    CheckOptions co;
+    co.testSelfIntersections = opt_.checkSelfIntersections;
+    const ValidityReport wr = checkMesh(wv.water, co);
+    validity_["water"] = wr.toJson();
+    validity_["water"]["materials"] = wv.waterMaterials;
+    validity_["water"]["faces_by_role"] = {{"interface", wv.interfaceFaces}, {"seabed", wv.seabedFaces},
+                                           {"wall", wv.wallFaces}, {"object", wv.objectFaces}};
+    validity_["water"]["volume_before_objects_m3"] = wv.waterVolumeBeforeSolids;
+    validity_["water"]["prism_volume_m3"] = wv.prismVolume;
+    valid_ = valid_ && wr.valid();
+    return wr.valid();
+}
+
+// A transparent object in water keeps only its dry faces (its wet ones are the water's
+// "water-<dielectric>" mesh); its whole solid stays for the geometric checks of checkSensors.
+void Assembly::keepDryParts(std::vector<TriMesh>& dryParts) {
+    if (dryParts.empty()) return;
+    for (size_t i = 0; i < placed_.size(); ++i)
+        if (placed_[i].solid.keepDryPart) {
+            wholeSolids_[i] = placed_[i].solid.mesh;
+            placed_[i].solid.mesh = std::move(dryParts[i]);
+        }
+}
+
+// No water: the whole terrain over the domain is land.
+void Assembly::buildLandWithoutWater() {
+    const auto t = Clock::now();
+    land_ = bathymetry::terrainMesh(*terrain_, domain_, geometry_.bathy.spacing);
+    land_.faceMaterial.assign(land_.triangles.size(), 0);
+    out_.seconds.surface = since(t);
+}
+
+void Assembly::addLandMesh() {
+    if (land_.triangles.empty()) return;
+    const ValidityReport lr = checkMesh(land_, CheckOptions{false});
+    validity_["land"] = meshSummary(land_);
+    validity_["land"]["manifold"] = lr.manifold;
+    validity_["land"]["boundary_edges"] = lr.boundaryEdges.size();
+    validity_["land"]["components"] = lr.components;
+    ir::Mesh lm;
+    lm.name = "land";
+    lm.file = "meshes/land.ply";
+    lm.materials = terrainMaterials_;
+    lm.closed = false;
+    lm.data = std::move(land_);
+    ir_.meshes.push_back(std::move(lm));
+}
+
+void Assembly::addObjectMeshes() {
+    for (size_t i = 0; i < placed_.size(); ++i) {
+        auto& p = placed_[i];
+        auto& j = validity_["objects"][p.solid.name];
+        const auto disp = j.contains("displaced_water_m3") ? j["displaced_water_m3"] : nlohmann::json();
+        j = p.validity.toJson();
+        if (!disp.is_null()) j["displaced_water_m3"] = disp;
+        valid_ = valid_ && p.validity.valid();
+        ir::Mesh om;
+        om.name = p.solid.name;
+        om.file = "meshes/object_" + p.solid.name + ".ply";
+        om.materials = p.solid.materials;
+        // A transparent object is filled with its dielectric's medium; in water only its dry faces
+        // remain here (its wet ones are the water's "water-<dielectric>" mesh).
+        om.inside = objectMedium_[i];
+        om.closed = objectMedium_[i].empty() || !spec_.hasWater;
+        om.data = std::move(p.solid.mesh);
+        ir_.meshes.push_back(std::move(om));
+    }
+}
+
+void Assembly::addTextureClassStatistics() {
+    if (!out_.textures) return;
+    auto cov = out_.textures->coverage();
+    for (size_t k = 0; k < out_.textures->classes.size(); ++k) {
+        const auto& s = out_.textures->stats[k];
+        validity_["texture_classes"][out_.textures->classes[k].name] = {
+            {"coverage", cov[k]},         {"pixels", s.pixels},       {"mean_before", s.meanBefore},
+            {"std_before", s.stdBefore},  {"mean_after", s.meanAfter}, {"std_after", s.stdAfter},
+            {"clamped_to_zero", s.clampedToZero}};
+    }
+}
+
+// Sensors and probes against the ground, the objects (now in the IR) and the whole scene.
+void Assembly::checkSensors() const {
+    const std::vector<ObjectSpec>& objects = geometry_.objects;
+    std::vector<const TriMesh*> meshes;
+    for (size_t i = 0; i < objects.size(); ++i)
+        if (wholeSolids_.count(i)) meshes.push_back(&wholeSolids_.at(i));
+        else if (const ir::Mesh* m = ir_.findMesh(objects[i].name)) meshes.push_back(&m->data);
+    if (meshes.size() == objects.size()) checkSensorsAndProbes(spec_, ir_, objects, meshes, elevation_, domain_);
+}
+
 }  // namespace
 
 nlohmann::json StageSeconds::toJson() const {
@@ -121,321 +556,7 @@ nlohmann::json StageSeconds::toJson() const {
             {"validity", validity},     {"write", write},               {"total", total()}};
 }
 
-AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) {
-    AssembledScene out;
-    ir::SceneIR& ir = out.ir;
-    applyCommonSections(spec, &ir);
-    const bathymetry::Extent domain{spec.scene.x0, spec.scene.y0, spec.scene.x1, spec.scene.y1};
-    checkRenderMemory(spec, ir);  // before any geometry: refuse an impossible render at once
-
-    // ---- parse the geometry sections ----
-    auto t = Clock::now();
-    if (!spec.bathymetry)
-        throw InputError(SourceLoc{spec.file.string()}, "the scene has no 'bathymetry' section; a coastal scene needs "
-                                                        "a seabed (e.g. bathymetry: {type: planar_slope, ...})");
-    const BathymetrySpec bathy = parseBathymetry(*spec.bathymetry);
-    const std::vector<ObjectSpec> objects = spec.objects ? parseObjects(*spec.objects) : std::vector<ObjectSpec>{};
-    std::optional<TextureClassesSpec> classesSpec;
-    if (spec.textureClasses) classesSpec = parseTextureClasses(*spec.textureClasses);
-    out.seconds.parse = since(t);
-
-    std::optional<bathymetry::GeoFrame> frame;
-    if (spec.scene.origin) {
-        const auto& o = *spec.scene.origin;
-        frame = bathy.utmFrame ? bathymetry::GeoFrame::utm(o.latitude, o.longitude, o.altitude)
-                               : bathymetry::GeoFrame::localCartesian(o.latitude, o.longitude, o.altitude);
-        ir.metadata["geo_frame"] = frame->describe();
-    }
-
-    std::set<std::string> known;
-    for (const auto& m : ir.materials) known.insert(m.name);
-    // Dielectric materials of the materials section: each names the medium inside the objects that
-    // use it (scene_file.cpp made both).
-    std::set<std::string> dielectrics;
-    for (const auto& m : spec.materials)
-        if (m.type == "dielectric") dielectrics.insert(m.name);
-
-    // ---- texture classes (terrain materials) ----
-    t = Clock::now();
-    std::vector<std::string> terrainMaterials;
-    std::function<uint16_t(double, double)> materialAt;
-    if (classesSpec) {
-        out.textures = buildTextureClasses(*classesSpec, domain);
-        for (const auto& m : out.textures->materials()) {
-            if (known.count(m.name))
-                throw InputError(classesSpec->loc, fmt::format("texture class '{}' has the name of a material already "
-                                                               "defined under 'materials'",
-                                                               m.name));
-            ir.materials.push_back(m);
-            known.insert(m.name);
-        }
-        // The ground's faces carry one classified material: the renderer looks the class up where
-        // each ray lands, so class boundaries are as sharp as the map whatever the terrain grid.
-        const ir::Material classified = out.textures->classifiedMaterial("texture-classes");
-        if (known.count(classified.name))
-            throw InputError(classesSpec->loc, fmt::format("'{}' is the name of the material Littoral makes for the "
-                                                           "class map; rename the material or class that uses it",
-                                                           classified.name));
-        ir.materials.push_back(classified);
-        known.insert(classified.name);
-        terrainMaterials = {classified.name};
-        if (!bathy.material.empty())
-            throw InputError(bathy.loc, "bathymetry.material is not used when texture_classes assigns the ground "
-                                        "materials; remove it");
-    } else {
-        if (bathy.material.empty())
-            throw InputError(bathy.loc, "bathymetry: name the ground material with 'material' (one of 'materials') or "
-                                        "add a texture_classes section");
-        if (!known.count(bathy.material))
-            throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'",
-                                                    bathy.material));
-        if (dielectrics.count(bathy.material))
-            throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is a dielectric; the ground must be "
-                                                    "opaque (dielectrics are for objects)",
-                                                    bathy.material));
-        terrainMaterials.push_back(bathy.material);
-    }
-    out.seconds.textures = since(t);
-
-    // ---- terrain ----
-    t = Clock::now();
-    const double margin = 3 * bathy.spacing + 1.0;
-    const bathymetry::Extent grown{domain.x0 - margin, domain.y0 - margin, domain.x1 + margin, domain.y1 + margin};
-    std::unique_ptr<bathymetry::Terrain> terrain = makeTerrain(bathy, grown, frame ? &*frame : nullptr);
-    const bathymetry::Extent tex = terrain->extent();
-    const bathymetry::Terrain* tp = terrain.get();
-    // Outside its extent a terrain is clamped to the nearest point of the extent (rasters do this
-    // themselves; a TIN would otherwise refuse the margin the booleans need around the domain).
-    auto elevation = [tp, tex](double x, double y) {
-        return tp->elevation(std::clamp(x, tex.x0, tex.x1), std::clamp(y, tex.y0, tex.y1));
-    };
-    ir.metadata["terrain"] = terrain->describe();
-    out.seconds.terrain = since(t);
-
-    // ---- objects ----
-    t = Clock::now();
-    std::vector<PlacedObject> placed;
-    std::map<size_t, TriMesh> wholeSolids;  // transparent objects in water: the closed solid
-    std::vector<std::string> objectMedium;  // per object: its dielectric's medium, or "" (opaque)
-    for (const auto& o : objects) {
-        std::string medium;
-        for (const auto& m : o.materials) {
-            if (!known.count(m))
-                throw InputError(o.loc, fmt::format("object '{}': material '{}' is not defined under 'materials' or "
-                                                    "texture_classes",
-                                                    o.name, m));
-            if (!dielectrics.count(m) || m == medium) continue;
-            // A transparent object is filled with its dielectric: one per object.
-            if (!medium.empty())
-                throw InputError(o.loc, fmt::format("object '{}' uses two dielectrics, '{}' and '{}'; an object is "
-                                                    "filled with one medium (split it into two objects)",
-                                                    o.name, medium, m));
-            medium = m;
-        }
-        objectMedium.push_back(medium);
-        placed.push_back(loadObject(o, frame ? &*frame : nullptr, spec.waterLevel));
-        placed.back().solid.keepDryPart = !medium.empty();
-    }
-    {
-        std::vector<const TriMesh*> meshes;
-        for (const auto& p : placed) meshes.push_back(&p.solid.mesh);
-        checkObjectPlacement(objects, meshes, domain);
-    }
-    out.seconds.objects = since(t);
-
-    // ---- water surface ----
-    t = Clock::now();
-    nlohmann::json validity;
-    validity["scene"] = spec.file.filename().string();
-    TriMesh land;
-    bool valid = true;
-    if (spec.hasWater) {
-        surfaces::WaveParams wp;
-        ir::Material interface = interfaceMaterial();
-        if (spec.waterSurface) {
-            wp = parseWaterSurface(*spec.waterSurface);
-            checkSurfaceCoverage(wp, domain, spec.waterSurface->loc());
-            if (auto rough = parseSurfaceRoughness(*spec.waterSurface, wp, interface.name)) interface = *rough;
-        } else {
-            wp = defaultWaterSurface(domain);
-        }
-        if (opt.surfaceTriangles) wp.triangles = *opt.surfaceTriangles;
-        const surfaces::WaveSurface ws = surfaces::generateWaveSurface(wp);
-        TriMesh surface = ws.mesh;
-        for (auto& p : surface.positions) p.z += spec.waterLevel;
-        ir.metadata["water.surface"] = ws.description;
-        ir.metadata["water.surface.rms_height_m"] = fmt::format("{:.6g}", ws.actual.rmsHeight);
-        out.seconds.surface = since(t);
-
-        WaterVolumeInput in;
-        in.domain = domain;
-        in.surface = std::move(surface);
-        in.elevation = elevation;
-        in.terrainSpacing = bathy.spacing;
-        in.terrainMaterials = terrainMaterials;
-        in.terrainMaterialAt = materialAt;
-        in.interfaceMaterial = interface.name;
-        in.wallMaterial = wallMaterial(spec.periodic).name;
-        for (const auto& p : placed) in.solids.push_back(p.solid);
-        WaterVolumeResult wv = buildWaterVolume(in);
-        out.seconds.waterPrism = wv.secondsPrism;
-        out.seconds.waterTerrain = wv.secondsTerrain;
-        out.seconds.waterBoolean = wv.secondsBoolean;
-        out.seconds.waterSolids = wv.secondsSolids;
-        for (const auto& m : {interface, wallMaterial(spec.periodic)})
-            if (!known.count(m.name)) {
-                ir.materials.push_back(m);
-                known.insert(m.name);
-            }
-
-        t = Clock::now();
-        CheckOptions co;
-        co.testSelfIntersections = opt.checkSelfIntersections;
-        const ValidityReport wr = checkMesh(wv.water, co);
-        validity["water"] = wr.toJson();
-        validity["water"]["materials"] = wv.waterMaterials;
-        validity["water"]["faces_by_role"] = {{"interface", wv.interfaceFaces}, {"seabed", wv.seabedFaces},
-                                              {"wall", wv.wallFaces}, {"object", wv.objectFaces}};
-        validity["water"]["volume_before_objects_m3"] = wv.waterVolumeBeforeSolids;
-        validity["water"]["prism_volume_m3"] = wv.prismVolume;
-        valid = valid && wr.valid();
-        out.seconds.validity += since(t);
-
-        // The water's faces against a transparent object are the interface between the water and
-        // the object's medium: they go to a mesh of their own, "water-<dielectric>", whose outside is
-        // that medium (the object mesh keeps only its dry faces, below).
-        std::map<std::string, TriMesh> contact;
-        {
-            TriMesh rest;
-            rest.positions = wv.water.positions;
-            std::vector<std::string> restMaterials;
-            std::map<uint16_t, uint16_t> restSlot;
-            for (size_t f = 0; f < wv.water.triangles.size(); ++f) {
-                const uint16_t slot = wv.water.faceMaterial[f];
-                const std::string& name = wv.waterMaterials[slot];
-                if (dielectrics.count(name)) {
-                    TriMesh& c = contact[name];
-                    if (c.positions.empty()) c.positions = wv.water.positions;
-                    c.triangles.push_back(wv.water.triangles[f]);
-                    c.faceMaterial.push_back(0);
-                    continue;
-                }
-                auto [it, inserted] = restSlot.try_emplace(slot, static_cast<uint16_t>(restMaterials.size()));
-                if (inserted) restMaterials.push_back(name);
-                rest.triangles.push_back(wv.water.triangles[f]);
-                rest.faceMaterial.push_back(it->second);
-            }
-            if (!contact.empty()) {
-                compactVertices(rest);
-                for (auto& [name, c] : contact) compactVertices(c);
-                wv.water = std::move(rest);
-                wv.waterMaterials = std::move(restMaterials);
-            }
-        }
-
-        ir::Mesh wm;
-        wm.name = "water";
-        wm.file = "meshes/water.ply";
-        wm.materials = wv.waterMaterials;
-        wm.inside = "water";
-        wm.outside = "";
-        wm.closed = wr.valid();  // the water body was checked whole, before its contact faces moved
-        wm.data = std::move(wv.water);
-        ir.meshes.push_back(std::move(wm));
-        for (auto& [name, c] : contact) {
-            ir::Mesh cm;
-            cm.name = "water-" + name;
-            cm.file = "meshes/water-" + name + ".ply";
-            cm.materials = {name};
-            cm.inside = "water";
-            cm.outside = name;
-            cm.closed = false;
-            cm.data = std::move(c);
-            ir.meshes.push_back(std::move(cm));
-        }
-        if (!wv.dryParts.empty())
-            for (size_t i = 0; i < placed.size(); ++i)
-                if (placed[i].solid.keepDryPart) {
-                    wholeSolids[i] = placed[i].solid.mesh;  // for the geometric checks below
-                    placed[i].solid.mesh = std::move(wv.dryParts[i]);
-                }
-        for (size_t i = 0; i < placed.size(); ++i) {
-            validity["objects"][placed[i].solid.name]["displaced_water_m3"] = wv.displaced[i];
-        }
-        land = std::move(wv.land);
-    } else {
-        // No water: the whole terrain over the domain is land.
-        land = bathymetry::terrainMesh(*terrain, domain, bathy.spacing);
-        land.faceMaterial.assign(land.triangles.size(), 0);
-        if (materialAt)
-            for (size_t f = 0; f < land.triangles.size(); ++f) {
-                const auto& tri = land.triangles[f];
-                const Point3 c = (land.positions[tri[0]] + land.positions[tri[1]] + land.positions[tri[2]]) / 3.0;
-                land.faceMaterial[f] = materialAt(c.x, c.y);
-            }
-        out.seconds.surface = since(t);
-    }
-
-    // ---- land and objects into the IR ----
-    t = Clock::now();
-    if (!land.triangles.empty()) {
-        const ValidityReport lr = checkMesh(land, CheckOptions{false});
-        validity["land"] = meshSummary(land);
-        validity["land"]["manifold"] = lr.manifold;
-        validity["land"]["boundary_edges"] = lr.boundaryEdges.size();
-        validity["land"]["components"] = lr.components;
-        ir::Mesh lm;
-        lm.name = "land";
-        lm.file = "meshes/land.ply";
-        lm.materials = terrainMaterials;
-        lm.closed = false;
-        lm.data = std::move(land);
-        ir.meshes.push_back(std::move(lm));
-    }
-    for (size_t i = 0; i < placed.size(); ++i) {
-        auto& p = placed[i];
-        auto& j = validity["objects"][p.solid.name];
-        const auto disp = j.contains("displaced_water_m3") ? j["displaced_water_m3"] : nlohmann::json();
-        j = p.validity.toJson();
-        if (!disp.is_null()) j["displaced_water_m3"] = disp;
-        valid = valid && p.validity.valid();
-        ir::Mesh om;
-        om.name = p.solid.name;
-        om.file = "meshes/object_" + p.solid.name + ".ply";
-        om.materials = p.solid.materials;
-        // A transparent object is filled with its dielectric's medium; in water only its dry faces
-        // remain here (its wet ones are the water's "water-<dielectric>" mesh).
-        om.inside = objectMedium[i];
-        om.closed = objectMedium[i].empty() || !spec.hasWater;
-        om.data = std::move(p.solid.mesh);
-        ir.meshes.push_back(std::move(om));
-    }
-    out.seconds.validity += since(t);
-    if (out.textures) {
-        auto cov = out.textures->coverage();
-        for (size_t k = 0; k < out.textures->classes.size(); ++k) {
-            const auto& s = out.textures->stats[k];
-            validity["texture_classes"][out.textures->classes[k].name] = {
-                {"coverage", cov[k]},         {"pixels", s.pixels},       {"mean_before", s.meanBefore},
-                {"std_before", s.stdBefore},  {"mean_after", s.meanAfter}, {"std_after", s.stdAfter},
-                {"clamped_to_zero", s.clampedToZero}};
-        }
-    }
-    validity["valid"] = valid;
-    validity["seconds"] = out.seconds.toJson();
-    out.validity = std::move(validity);
-    out.valid = valid;
-    {
-        // Sensors and probes against the ground, the objects (now in the IR) and the whole scene.
-        std::vector<const TriMesh*> meshes;
-        for (size_t i = 0; i < objects.size(); ++i)
-            if (wholeSolids.count(i)) meshes.push_back(&wholeSolids.at(i));
-            else if (const ir::Mesh* m = ir.findMesh(objects[i].name)) meshes.push_back(&m->data);
-        if (meshes.size() == objects.size()) checkSensorsAndProbes(spec, ir, objects, meshes, elevation, domain);
-    }
-    ir.metadata["generator"] = "littoral build";
-    return out;
-}
+AssembledScene assembleScene(const SceneSpec& spec, const AssembleOptions& opt) { return Assembly(spec, opt).run(); }
 
 void writeAssembledScene(const AssembledScene& scene, const std::filesystem::path& dir) {
     createOutputFolder(dir);

@@ -227,17 +227,17 @@ nlohmann::json ValidityReport::toJson(size_t n) const {
     return j;
 }
 
-ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
-    ValidityReport rep;
-    const size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
-    rep.vertices = nv;
-    rep.faces = nf;
-    rep.empty = nf == 0;
+namespace {
 
+// The stages of checkMesh.
+
+// Non-finite vertices, faces with bad indices or degenerate corners, and the area. Returns which
+// faces are usable for topology (indices in range, three distinct corners); geometric tests
+// additionally need finite corners.
+std::vector<char> checkFacesAndVertices(const TriMesh& mesh, ValidityReport& rep) {
+    const size_t nv = mesh.positions.size(), nf = mesh.triangles.size();
     for (size_t v = 0; v < nv; ++v)
         if (!isFinite(mesh.positions[v])) rep.nonFiniteVertices.push_back(static_cast<uint32_t>(v));
-
-    // Faces usable for topology: indices in range. Geometric tests additionally need finite corners.
     std::vector<char> usable(nf, 1);
     for (size_t f = 0; f < nf; ++f) {
         const auto& t = mesh.triangles[f];
@@ -258,11 +258,14 @@ ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
             rep.area += 0.5 * length(mesh.faceNormalArea(f));
         }
     }
+    return usable;
+}
 
-    // ---- edge incidence ----
+// The edge uses of the usable faces, sorted by edge, then face.
+std::vector<EdgeUse> edgeUses(const TriMesh& mesh, const std::vector<char>& usable) {
     std::vector<EdgeUse> uses;
-    uses.reserve(3 * nf);
-    for (size_t f = 0; f < nf; ++f) {
+    uses.reserve(3 * mesh.triangles.size());
+    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
         if (!usable[f]) continue;
         const auto& t = mesh.triangles[f];
         for (uint8_t k = 0; k < 3; ++k) {
@@ -273,15 +276,26 @@ ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
     std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
         return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.face < y.face);
     });
+    return uses;
+}
 
-    UnionFind faceUF(nf);         // edge-connected components
-    UnionFind cornerUF(3 * nf);   // fans around each vertex: corner id = 3 * face + k
+// What the faces' sharing of edges tells: edge-connected components, the fans of corners around
+// each vertex (corner id = 3 * face + k), and the adjacency across manifold edges for orientation
+// propagation: (neighbour, sameDirection) per face.
+struct EdgeIncidence {
+    UnionFind faces;
+    UnionFind corners;
+    std::vector<std::vector<std::pair<uint32_t, bool>>> adj;
+    explicit EdgeIncidence(size_t nf) : faces(nf), corners(3 * nf), adj(nf) {}
+};
+
+// Also records the boundary, non-manifold and inconsistently oriented edges in `rep`.
+EdgeIncidence edgeIncidence(const TriMesh& mesh, const std::vector<EdgeUse>& uses, ValidityReport& rep) {
+    EdgeIncidence inc(mesh.triangles.size());
     auto cornerOf = [&](uint32_t face, uint32_t vertex) {
         const auto& t = mesh.triangles[face];
         return 3 * face + (t[0] == vertex ? 0u : (t[1] == vertex ? 1u : 2u));
     };
-    // Adjacency for orientation propagation: (face, neighbour, sameDirection).
-    std::vector<std::vector<std::pair<uint32_t, bool>>> adj(nf);
     for (size_t i = 0; i < uses.size();) {
         size_t j = i;
         while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
@@ -291,104 +305,131 @@ ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
         if (count >= 3) rep.nonManifoldEdges.push_back(key);
         if (count == 2 && uses[i].forward == uses[i + 1].forward) rep.inconsistentEdges.push_back(key);
         for (size_t k = i + 1; k < j; ++k) {
-            faceUF.unite(uses[i].face, uses[k].face);
+            inc.faces.unite(uses[i].face, uses[k].face);
             // Faces meeting at an edge belong to the same fan at both its endpoints.
-            for (uint32_t v : {key[0], key[1]}) cornerUF.unite(cornerOf(uses[i].face, v), cornerOf(uses[k].face, v));
+            for (uint32_t v : {key[0], key[1]})
+                inc.corners.unite(cornerOf(uses[i].face, v), cornerOf(uses[k].face, v));
         }
         if (count == 2) {
             const bool same = uses[i].forward == uses[i + 1].forward;
-            adj[uses[i].face].push_back({uses[i + 1].face, same});
-            adj[uses[i + 1].face].push_back({uses[i].face, same});
+            inc.adj[uses[i].face].push_back({uses[i + 1].face, same});
+            inc.adj[uses[i + 1].face].push_back({uses[i].face, same});
         }
         i = j;
     }
+    return inc;
+}
 
-    // Non-manifold vertices: more than one fan of corners around the vertex.
-    {
-        std::vector<uint32_t> firstRoot(nv, UINT32_MAX);
-        std::vector<char> flagged(nv, 0);
-        for (size_t f = 0; f < nf; ++f) {
-            if (!usable[f]) continue;
-            for (uint32_t k = 0; k < 3; ++k) {
-                const uint32_t v = mesh.triangles[f][k];
-                const uint32_t root = cornerUF.find(static_cast<uint32_t>(3 * f + k));
-                if (firstRoot[v] == UINT32_MAX) firstRoot[v] = root;
-                else if (firstRoot[v] != root) flagged[v] = 1;
-            }
-        }
-        // Endpoints of non-manifold edges are already reported through the edge.
-        for (const auto& e : rep.nonManifoldEdges) flagged[e[0]] = flagged[e[1]] = 0;
-        for (size_t v = 0; v < nv; ++v)
-            if (flagged[v]) rep.nonManifoldVertices.push_back(static_cast<uint32_t>(v));
-    }
-
-    // Components and orientation parity within each (breadth-first over manifold edges).
-    {
-        std::vector<int8_t> parity(nf, -1);
-        std::map<uint32_t, std::array<std::vector<uint32_t>, 2>> byComponent;
-        for (size_t s = 0; s < nf; ++s) {
-            if (!usable[s] || parity[s] >= 0) continue;
-            std::vector<uint32_t> stack{static_cast<uint32_t>(s)};
-            parity[s] = 0;
-            auto& groups = byComponent[faceUF.find(static_cast<uint32_t>(s))];
-            while (!stack.empty()) {
-                const uint32_t f = stack.back();
-                stack.pop_back();
-                groups[parity[f]].push_back(f);
-                for (auto [g, same] : adj[f]) {
-                    if (parity[g] >= 0) continue;
-                    parity[g] = static_cast<int8_t>(parity[f] ^ (same ? 1 : 0));
-                    stack.push_back(g);
-                }
-            }
-        }
-        rep.components = byComponent.size();
-        if (!rep.inconsistentEdges.empty()) {
-            for (auto& [root, groups] : byComponent) {
-                if (groups[0].empty() || groups[1].empty()) continue;
-                auto& minority = groups[0].size() < groups[1].size() ? groups[0] : groups[1];
-                rep.flippedFaces.insert(rep.flippedFaces.end(), minority.begin(), minority.end());
-            }
-            std::sort(rep.flippedFaces.begin(), rep.flippedFaces.end());
+// Non-manifold vertices: more than one fan of corners around the vertex.
+void findNonManifoldVertices(const TriMesh& mesh, const std::vector<char>& usable, EdgeIncidence& inc,
+                             ValidityReport& rep) {
+    const size_t nv = mesh.positions.size();
+    std::vector<uint32_t> firstRoot(nv, UINT32_MAX);
+    std::vector<char> flagged(nv, 0);
+    for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+        if (!usable[f]) continue;
+        for (uint32_t k = 0; k < 3; ++k) {
+            const uint32_t v = mesh.triangles[f][k];
+            const uint32_t root = inc.corners.find(static_cast<uint32_t>(3 * f + k));
+            if (firstRoot[v] == UINT32_MAX) firstRoot[v] = root;
+            else if (firstRoot[v] != root) flagged[v] = 1;
         }
     }
+    // Endpoints of non-manifold edges are already reported through the edge.
+    for (const auto& e : rep.nonManifoldEdges) flagged[e[0]] = flagged[e[1]] = 0;
+    for (size_t v = 0; v < nv; ++v)
+        if (flagged[v]) rep.nonManifoldVertices.push_back(static_cast<uint32_t>(v));
+}
 
+// Components and orientation parity within each (breadth-first over manifold edges); with
+// inconsistent edges, the minority parity of each component is reported as flipped.
+void componentsAndParity(const std::vector<char>& usable, EdgeIncidence& inc, ValidityReport& rep) {
+    const size_t nf = usable.size();
+    std::vector<int8_t> parity(nf, -1);
+    std::map<uint32_t, std::array<std::vector<uint32_t>, 2>> byComponent;
+    for (size_t s = 0; s < nf; ++s) {
+        if (!usable[s] || parity[s] >= 0) continue;
+        std::vector<uint32_t> stack{static_cast<uint32_t>(s)};
+        parity[s] = 0;
+        auto& groups = byComponent[inc.faces.find(static_cast<uint32_t>(s))];
+        while (!stack.empty()) {
+            const uint32_t f = stack.back();
+            stack.pop_back();
+            groups[parity[f]].push_back(f);
+            for (auto [g, same] : inc.adj[f]) {
+                if (parity[g] >= 0) continue;
+                parity[g] = static_cast<int8_t>(parity[f] ^ (same ? 1 : 0));
+                stack.push_back(g);
+            }
+        }
+    }
+    rep.components = byComponent.size();
+    if (!rep.inconsistentEdges.empty()) {
+        for (auto& [root, groups] : byComponent) {
+            if (groups[0].empty() || groups[1].empty()) continue;
+            auto& minority = groups[0].size() < groups[1].size() ? groups[0] : groups[1];
+            rep.flippedFaces.insert(rep.flippedFaces.end(), minority.begin(), minority.end());
+        }
+        std::sort(rep.flippedFaces.begin(), rep.flippedFaces.end());
+    }
+}
+
+// Whether a clean surface (closed, manifold, consistently oriented, nothing degenerate or
+// self-intersecting) bounds a volume, and whether outward: only then is the signed volume an
+// enclosed volume.
+void checkBoundsVolume(const TriMesh& mesh, ValidityReport& rep) {
+    SMesh sm;
+    // Only vertices that faces use: CGAL's volume tests assume no isolated vertices.
+    std::vector<SMesh::Vertex_index> vmap(mesh.positions.size(), SMesh::null_vertex());
+    bool inserted = true;
+    for (const auto& t : mesh.triangles) {
+        for (uint32_t i : t)
+            if (vmap[i] == SMesh::null_vertex()) vmap[i] = sm.add_vertex(toC(mesh.positions[i]));
+        inserted = inserted && sm.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]) != SMesh::null_face();
+    }
+    if (inserted) {
+        rep.boundsVolume = PMP::does_bound_a_volume(sm);
+        rep.outward = rep.boundsVolume && PMP::is_outward_oriented(sm) && mesh.signedVolume() > 0.0;
+    }
+}
+
+// Geometry through CGAL (needs finite vertices and valid indices).
+void checkGeometry(const TriMesh& mesh, const CheckOptions& options, ValidityReport& rep) {
+    std::vector<char> degenerate(mesh.triangles.size(), 0);
+    for (uint32_t f : rep.degenerateFaces) degenerate[f] = 1;
+    if (options.testSelfIntersections) {
+        rep.selfIntersections = soupSelfIntersections(mesh, degenerate);
+        rep.selfIntersectionTested = true;
+    }
+    const bool topologyClean = rep.manifold && rep.consistentlyOriented;
+    if (rep.closed && topologyClean && rep.degenerateFaces.empty() && rep.selfIntersectionTested &&
+        rep.selfIntersections.empty())
+        checkBoundsVolume(mesh, rep);
+    // A volume is reported only for a surface that encloses one; the divergence-theorem sum of an
+    // open or self-intersecting surface is a number without meaning.
+    rep.volume = rep.boundsVolume ? mesh.signedVolume() : 0.0;
+}
+
+}  // namespace
+
+ValidityReport checkMesh(const TriMesh& mesh, const CheckOptions& options) {
+    ValidityReport rep;
+    rep.vertices = mesh.positions.size();
+    rep.faces = mesh.triangles.size();
+    rep.empty = rep.faces == 0;
+    const std::vector<char> usable = checkFacesAndVertices(mesh, rep);
+
+    // ---- edge incidence ----
+    EdgeIncidence inc = edgeIncidence(mesh, edgeUses(mesh, usable), rep);
+    findNonManifoldVertices(mesh, usable, inc, rep);
+    componentsAndParity(usable, inc, rep);
     rep.closed = !rep.empty && rep.boundaryEdges.empty() && rep.badIndexFaces.empty();
     rep.manifold = !rep.empty && rep.nonManifoldEdges.empty() && rep.nonManifoldVertices.empty();
     rep.consistentlyOriented = !rep.empty && rep.inconsistentEdges.empty();
 
     // ---- geometry through CGAL ----
     if (rep.empty || !rep.nonFiniteVertices.empty() || !rep.badIndexFaces.empty()) return rep;
-
-    std::vector<char> degenerate(nf, 0);
-    for (uint32_t f : rep.degenerateFaces) degenerate[f] = 1;
-    if (options.testSelfIntersections) {
-        rep.selfIntersections = soupSelfIntersections(mesh, degenerate);
-        rep.selfIntersectionTested = true;
-    }
-
-    // Bounding a volume needs a clean surface: closed, manifold, consistently oriented, nothing
-    // degenerate or self-intersecting. Only then is the signed volume an enclosed volume.
-    const bool topologyClean = rep.manifold && rep.consistentlyOriented;
-    if (rep.closed && topologyClean && rep.degenerateFaces.empty() && rep.selfIntersectionTested &&
-        rep.selfIntersections.empty()) {
-        SMesh sm;
-        // Only vertices that faces use: CGAL's volume tests assume no isolated vertices.
-        std::vector<SMesh::Vertex_index> vmap(nv, SMesh::null_vertex());
-        bool inserted = true;
-        for (const auto& t : mesh.triangles) {
-            for (uint32_t i : t)
-                if (vmap[i] == SMesh::null_vertex()) vmap[i] = sm.add_vertex(toC(mesh.positions[i]));
-            inserted = inserted && sm.add_face(vmap[t[0]], vmap[t[1]], vmap[t[2]]) != SMesh::null_face();
-        }
-        if (inserted) {
-            rep.boundsVolume = PMP::does_bound_a_volume(sm);
-            rep.outward = rep.boundsVolume && PMP::is_outward_oriented(sm) && mesh.signedVolume() > 0.0;
-        }
-    }
-    // A volume is reported only for a surface that encloses one; the divergence-theorem sum of an
-    // open or self-intersecting surface is a number without meaning.
-    rep.volume = rep.boundsVolume ? mesh.signedVolume() : 0.0;
+    checkGeometry(mesh, options, rep);
     return rep;
 }
 
@@ -418,8 +459,11 @@ nlohmann::json RepairReport::toJson() const {
             {"changes", changes()}};
 }
 
-RepairReport repairMesh(TriMesh& mesh) {
-    RepairReport rep;
+namespace {
+
+// The stages of repairMesh.
+
+void requireRepairable(const TriMesh& mesh) {
     for (size_t v = 0; v < mesh.positions.size(); ++v)
         if (!isFinite(mesh.positions[v]))
             throw InputError(fmt::format("cannot repair: vertex {} has a non-finite coordinate {}", v,
@@ -429,21 +473,33 @@ RepairReport repairMesh(TriMesh& mesh) {
         for (uint32_t v : mesh.triangles[f])
             if (v >= mesh.positions.size())
                 throw InputError(fmt::format("cannot repair: face {} refers to vertex {} which does not exist", f, v));
+}
 
-    // 1. Merge exactly coincident vertices (STL-style soups, split seams).
+// 1. Merges exactly coincident vertices (STL-style soups, split seams): the distinct points, and
+// `remap` from the mesh's vertices to them.
+std::vector<Point3> mergeCoincidentVertices(const TriMesh& mesh, std::vector<uint32_t>* remap, RepairReport& rep) {
     std::map<std::array<double, 3>, uint32_t> firstAt;
-    std::vector<uint32_t> remap(mesh.positions.size());
+    remap->resize(mesh.positions.size());
     std::vector<Point3> merged;
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
         const auto& p = mesh.positions[v];
         auto [it, inserted] = firstAt.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(merged.size()));
         if (inserted) merged.push_back(p);
         else ++rep.verticesMerged;
-        remap[v] = it->second;
+        (*remap)[v] = it->second;
     }
-    // 2. Drop faces with repeated corners and exact duplicates (same vertex set).
+    return merged;
+}
+
+// A polygon soup over the merged points, with each polygon's material slot.
+struct Soup {
     std::vector<std::array<size_t, 3>> polys;
     std::vector<uint16_t> mats;
+};
+
+// 2. Drops faces with repeated corners and exact duplicates (same vertex set).
+Soup dropDegenerateAndDuplicateFaces(const TriMesh& mesh, const std::vector<uint32_t>& remap, RepairReport& rep) {
+    Soup soup;
     std::map<std::array<uint32_t, 3>, size_t> seen;
     for (size_t f = 0; f < mesh.triangles.size(); ++f) {
         std::array<uint32_t, 3> t{remap[mesh.triangles[f][0]], remap[mesh.triangles[f][1]], remap[mesh.triangles[f][2]]};
@@ -457,67 +513,67 @@ RepairReport repairMesh(TriMesh& mesh) {
             ++rep.duplicateFacesRemoved;
             continue;
         }
-        polys.push_back({t[0], t[1], t[2]});
-        mats.push_back(mesh.materialOf(f));
+        soup.polys.push_back({t[0], t[1], t[2]});
+        soup.mats.push_back(mesh.materialOf(f));
     }
-    // 3. Consistent orientation (may duplicate vertices at non-manifold spots).
-    std::vector<CPoint> pts;
-    for (const auto& p : merged) pts.push_back(toC(p));
-    std::vector<K::Vector_3> inputNormal;
-    for (const auto& t : polys) inputNormal.push_back(CGAL::cross_product(pts[t[1]] - pts[t[0]], pts[t[2]] - pts[t[0]]));
-    const auto before = polys;
-    PMP::orient_polygon_soup(pts, polys);
+    return soup;
+}
+
+// 3. Orients the soup consistently (may duplicate vertices at non-manifold spots) and counts the
+// faces it reversed; then drops the points no polygon uses (CGAL's volume queries assume no
+// isolated vertices).
+void orientSoup(std::vector<CPoint>& pts, Soup& soup, RepairReport& rep) {
+    const auto before = soup.polys;
+    PMP::orient_polygon_soup(pts, soup.polys);
     auto samePoint = [&](size_t a, size_t b) { return pts[a] == pts[b]; };
-    for (size_t i = 0; i < polys.size(); ++i) {
+    for (size_t i = 0; i < soup.polys.size(); ++i) {
         // A reversed triangle (a, b, c) -> (a, c, b) up to rotation: compare the cyclic successor of corner 0.
         const auto& o = before[i];
-        const auto& n = polys[i];
+        const auto& n = soup.polys[i];
         int k = 0;
         while (k < 3 && !samePoint(n[k], o[0])) ++k;
         if (k < 3 && !samePoint(n[(k + 1) % 3], o[1])) ++rep.facesReversedForConsistency;
     }
-    // Drop points no polygon uses (CGAL's volume queries assume no isolated vertices).
-    {
-        std::vector<size_t> used(pts.size(), SIZE_MAX);
-        std::vector<CPoint> kept;
-        for (auto& t : polys)
-            for (auto& i : t) {
-                if (used[i] == SIZE_MAX) {
-                    used[i] = kept.size();
-                    kept.push_back(pts[i]);
-                }
-                i = used[i];
+    std::vector<size_t> used(pts.size(), SIZE_MAX);
+    std::vector<CPoint> kept;
+    for (auto& t : soup.polys)
+        for (auto& i : t) {
+            if (used[i] == SIZE_MAX) {
+                used[i] = kept.size();
+                kept.push_back(pts[i]);
             }
-        pts.swap(kept);
-    }
-    SMesh sm;
-    PMP::polygon_soup_to_polygon_mesh(pts, polys, sm);
-    LITTORAL_CHECK_EQ(sm.number_of_faces(), polys.size());
+            i = used[i];
+        }
+    pts.swap(kept);
+}
 
-    // Normals before the outward orientation step, to count the faces it reverses.
-    auto normalOf = [&](SMesh::Face_index f) {
-        auto h = sm.halfedge(f);
-        const auto& a = sm.point(sm.source(h));
-        const auto& b = sm.point(sm.target(h));
-        const auto& c = sm.point(sm.target(sm.next(h)));
-        return CGAL::cross_product(b - a, c - a);
-    };
-    // 4. Stitch borders whose endpoints coincide geometrically.
+K::Vector_3 faceNormal(const SMesh& sm, SMesh::Face_index f) {
+    auto h = sm.halfedge(f);
+    const auto& a = sm.point(sm.source(h));
+    const auto& b = sm.point(sm.target(h));
+    const auto& c = sm.point(sm.target(sm.next(h)));
+    return CGAL::cross_product(b - a, c - a);
+}
+
+// 4. Stitches borders whose endpoints coincide geometrically; 5. orients each closed component
+// outward (nested components inward). Counts the faces step 5 reversed, and those reversed in
+// all against `inputNormal` (the input faces' normals, in face order).
+void stitchAndOrientOutward(SMesh& sm, const std::vector<K::Vector_3>& inputNormal, RepairReport& rep) {
     rep.bordersStitched = PMP::stitch_borders(sm);
-    // 5. Orient each closed component outward (nested components inward).
     std::vector<K::Vector_3> n0;
-    for (auto f : sm.faces()) n0.push_back(normalOf(f));
+    for (auto f : sm.faces()) n0.push_back(faceNormal(sm, f));
     if (CGAL::is_closed(sm)) {
         PMP::orient_to_bound_a_volume(sm);
         size_t i = 0;
-        for (auto f : sm.faces()) rep.facesReversedOutward += (n0[i++] * normalOf(f) < 0) ? 1 : 0;
+        for (auto f : sm.faces()) rep.facesReversedOutward += (n0[i++] * faceNormal(sm, f) < 0) ? 1 : 0;
     }
-    {
-        size_t i = 0;
-        for (auto f : sm.faces()) rep.facesReversedNet += (inputNormal[i++] * normalOf(f) < 0) ? 1 : 0;
-    }
+    size_t i = 0;
+    for (auto f : sm.faces()) rep.facesReversedNet += (inputNormal[i++] * faceNormal(sm, f) < 0) ? 1 : 0;
+}
 
-    // Back to the plain mesh; faces keep their order (no garbage collection happened on faces).
+// Back to the plain mesh; faces keep their order (no garbage collection happened on faces), and
+// their material slots when `withMaterials`.
+TriMesh toTriMesh(const SMesh& sm, const std::vector<uint16_t>& mats, bool withMaterials) {
     TriMesh out;
     std::unordered_map<uint32_t, uint32_t> vIndex;
     for (auto v : sm.vertices()) {
@@ -531,10 +587,31 @@ RepairReport repairMesh(TriMesh& mesh) {
         int k = 0;
         for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = vIndex.at(v.idx());
         out.triangles.push_back(t);
-        if (!mesh.faceMaterial.empty()) out.faceMaterial.push_back(mats[i]);
+        if (withMaterials) out.faceMaterial.push_back(mats[i]);
         ++i;
     }
-    mesh = std::move(out);
+    return out;
+}
+
+}  // namespace
+
+RepairReport repairMesh(TriMesh& mesh) {
+    RepairReport rep;
+    requireRepairable(mesh);
+    std::vector<uint32_t> remap;
+    const std::vector<Point3> merged = mergeCoincidentVertices(mesh, &remap, rep);
+    Soup soup = dropDegenerateAndDuplicateFaces(mesh, remap, rep);
+    std::vector<CPoint> pts;
+    for (const auto& p : merged) pts.push_back(toC(p));
+    std::vector<K::Vector_3> inputNormal;
+    for (const auto& t : soup.polys)
+        inputNormal.push_back(CGAL::cross_product(pts[t[1]] - pts[t[0]], pts[t[2]] - pts[t[0]]));
+    orientSoup(pts, soup, rep);
+    SMesh sm;
+    PMP::polygon_soup_to_polygon_mesh(pts, soup.polys, sm);
+    LITTORAL_CHECK_EQ(sm.number_of_faces(), soup.polys.size());
+    stitchAndOrientOutward(sm, inputNormal, rep);
+    mesh = toTriMesh(sm, soup.mats, !mesh.faceMaterial.empty());
     return rep;
 }
 

@@ -54,47 +54,51 @@ std::pair<double, double> pairOf(const YamlNode& n, double lo, double hi, const 
 }
 }  // namespace
 
-surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
-    n.expectMap();
-    // The key of the old convention is refused with the conversion, never reinterpreted.
-    if (auto old = n.optional("wind_direction_deg")) {
-        const bool sinusoid = n.has("model") && n["model"].isScalar() && n["model"].asString() == "sinusoid";
-        const char* key = sinusoid ? "waves_from_deg" : "wind_from_deg";
-        std::string example;
-        if (old->isScalar()) {
-            try {
-                example = fmt::format("; your {} would be {}: {:g}", old->asDouble(), key,
-                                      surfaces::compassFromDirection(deg2rad(old->asDouble())));
-            } catch (const InputError&) {
-                // not a number: the message without the conversion
-            }
+namespace {
+
+// The key of the old convention is refused with the conversion, never reinterpreted.
+void refuseOldDirectionKey(const YamlNode& n) {
+    auto old = n.optional("wind_direction_deg");
+    if (!old) return;
+    const bool sinusoid = n.has("model") && n["model"].isScalar() && n["model"].asString() == "sinusoid";
+    const char* key = sinusoid ? "waves_from_deg" : "wind_from_deg";
+    std::string example;
+    if (old->isScalar()) {
+        try {
+            example = fmt::format("; your {} would be {}: {:g}", old->asDouble(), key,
+                                  surfaces::compassFromDirection(deg2rad(old->asDouble())));
+        } catch (const InputError&) {
+            // not a number: the message without the conversion
         }
-        old->fail(fmt::format("this key was removed: it gave the direction the {} TOWARD, in degrees counter-clockwise "
-                              "from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
-                              "from north, like every other azimuth in a scene file{}",
-                              sinusoid ? "waves travel" : "wind blows", key, sinusoid ? "waves come" : "wind comes",
-                              example));
     }
-    n.expectKeys({"model", "wind_speed", "wind_from_deg", "waves_from_deg", "sea", "size", "centre", "spacing", "seed",
-                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth", "roughness"});
-    surfaces::WaveParams p;
-    p.sceneKeys = true;
-    p.where = n.loc();
-    p.model = *surfaces::parseWaveModel(n.getEnum("model", "beaufort", surfaces::waveModelNames()));
-    const std::string modelName = surfaces::waveModelName(p.model);
+    old->fail(fmt::format("this key was removed: it gave the direction the {} TOWARD, in degrees counter-clockwise "
+                          "from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
+                          "from north, like every other azimuth in a scene file{}",
+                          sinusoid ? "waves travel" : "wind blows", key, sinusoid ? "waves come" : "wind comes",
+                          example));
+}
+
+// A key that only other models use is a mistake worth reporting.
+void refuseKeysOfOtherModels(const YamlNode& n, WaveModel model) {
     for (const ModelKey& mk : modelKeys())
         if (auto k = n.optional(mk.key)) {
             bool ok = false;
-            for (WaveModel m : mk.models) ok = ok || m == p.model;
-            if (!ok) k->fail(fmt::format("does not apply to model {}; it is used by: {}", modelName, modelList(mk.models)));
+            for (WaveModel m : mk.models) ok = ok || m == model;
+            if (!ok)
+                k->fail(fmt::format("does not apply to model {}; it is used by: {}", surfaces::waveModelName(model),
+                                    modelList(mk.models)));
         }
+}
 
+// The wind, and its compass direction (sinusoid: the waves'); sea for cox-munk.
+void parseWind(const YamlNode& n, surfaces::WaveParams& p) {
     if (surfaces::isWindDriven(p.model)) {
         const YamlNode w = n["wind_speed"];  // required: the model is driven by it
         // cox-munk has its own, narrower range: validateWaveParams reports it at this key.
         p.windSpeed = p.model == WaveModel::CoxMunk ? w.asDouble() : w.asDouble(0.0, WaveLimits::kMaxWind, "m/s");
-        if (p.windSpeed <= 0 && p.model != WaveModel::CoxMunk) w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s",
-                                                 p.windSpeed, modelName, WaveLimits::kMaxWind));
+        if (p.windSpeed <= 0 && p.model != WaveModel::CoxMunk)
+            w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s", p.windSpeed,
+                               surfaces::waveModelName(p.model), WaveLimits::kMaxWind));
     } else {
         p.windSpeed = 0.0;
     }
@@ -104,6 +108,10 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     p.windDirection = surfaces::directionFromCompass(n.getDouble(dirKey, 270.0, 0.0, 360.0, "degrees"));
     if (p.model == WaveModel::CoxMunk)
         p.sea = *parseName<CoxMunkSea>(n.getEnum("sea", "clean", allNames<CoxMunkSea>()));
+}
+
+// The surface rectangle, the grid and the models' other parameters.
+void parseGridAndShape(const YamlNode& n, surfaces::WaveParams& p) {
     if (auto s = n.optional("size")) {
         if (s->isSequence()) {
             const auto [sx, sy] = pairOf(*s, WaveLimits::kMinSize, WaveLimits::kMaxSize, "m");
@@ -128,17 +136,11 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     p.phase = n.getDouble("phase", p.phase, -WaveLimits::kMaxSize, WaveLimits::kMaxSize, "m");
     p.time = n.getDouble("time", p.time, 0.0, WaveLimits::kMaxTime, "s");
     p.depth = n.getDouble("depth", p.depth, 0.0, WaveLimits::kMaxDepth, "m");
-    // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
-    // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
-    // cox-munk keeps the full grid by default: decimation smooths the facet slopes it is made for.
-    if (!n.has("triangles") && p.model == WaveModel::CoxMunk) p.triangles = 0;
-    if (!n.has("triangles")) {
-        const surfaces::GridSize g = surfaces::gridSizeFor(p);
-        if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;
-    }
+}
 
-    // Checks on the combination (memory, triangle target, resolution). Report them at the key
-    // they name when that key is in the file, else at the section.
+// Checks on the combination (memory, triangle target, resolution). Report them at the key they
+// name when that key is in the file, else at the section.
+void validateAtKey(const YamlNode& n, const surfaces::WaveParams& p) {
     try {
         surfaces::validateWaveParams(p);
     } catch (const InputError& e) {
@@ -148,6 +150,31 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
         const std::string where = n.path().empty() ? "" : n.path() + ".";
         throw InputError(k ? k->loc() : n.loc(), where + msg);
     }
+}
+
+}  // namespace
+
+surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
+    n.expectMap();
+    refuseOldDirectionKey(n);
+    n.expectKeys({"model", "wind_speed", "wind_from_deg", "waves_from_deg", "sea", "size", "centre", "spacing", "seed",
+                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth", "roughness"});
+    surfaces::WaveParams p;
+    p.sceneKeys = true;
+    p.where = n.loc();
+    p.model = *surfaces::parseWaveModel(n.getEnum("model", "beaufort", surfaces::waveModelNames()));
+    refuseKeysOfOtherModels(n, p.model);
+    parseWind(n, p);
+    parseGridAndShape(n, p);
+    // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
+    // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
+    // cox-munk keeps the full grid by default: decimation smooths the facet slopes it is made for.
+    if (!n.has("triangles") && p.model == WaveModel::CoxMunk) p.triangles = 0;
+    if (!n.has("triangles")) {
+        const surfaces::GridSize g = surfaces::gridSizeFor(p);
+        if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;
+    }
+    validateAtKey(n, p);
     return p;
 }
 

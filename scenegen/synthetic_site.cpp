@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
@@ -106,97 +107,82 @@ fs::path writeMesh(const fs::path& dir, const std::string& name, const TriMesh& 
     return p;
 }
 
-}  // namespace
-
-std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
-    createOutputFolder(dir);
-    std::vector<fs::path> files;
-    writeMesh(dir, "barge.ply", makeBarge(4.0, 12.0, 1.5), &files);    // slots: 0 hull, 1 deck
-    writeMesh(dir, "boat.ply", makeBoat(5.0, 2.0, 0.8), &files);       // slots: 0 hull, 1 deck
-    writeMesh(dir, "buoy.ply", makeBuoy(0.4, 1.8), &files);            // slot 0
+PierParams sitePier() {
     PierParams pp;
     pp.length = kPierLength;
     pp.width = kPierWidth;
     pp.deckBottom = 1.6;
     pp.pilingRadius = 0.18;
     pp.pilingBottom = -5;
-    writeMesh(dir, "pier.ply", makePier(pp), &files);                  // slots: 0 deck, 1 pilings
-    writeMesh(dir, "step_target.ply", makeStepTarget(2.0, 1.0), &files);  // slots: 0 bright, 1 dark
-    writeMesh(dir, "cube.ply", makeBox(1.0, 1.0, 1.0), &files);         // slot 0 (a 1 m cube, base at z = 0)
-    return files;
+    return pp;
 }
 
-SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
-    SiteSummary s;
-    createOutputFolder(dir / "textures");
-    createOutputFolder(dir / "objects");
-    const uint64_t seed = opt.seed;
-    const auto profile = siteProfile();
-    const auto terrain = bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
-    auto depthAt = [&](double x, double y) { return -terrain->elevation(x, y); };
-
-    // ---- step targets: 2 m pedestals, tops 0.5, 1.25, 2.0, 2.75 m deep (0.75 m steps) ----
+// Step targets: 2 m pedestals, tops 0.5, 1.25, 2.0, 2.75 m deep (0.75 m steps), in a row 9 m south
+// of the centre line. `depthAt` is the seabed's depth (m, positive down).
+std::vector<Target> placeTargets(uint64_t seed, double shorelineX, const std::function<double(double, double)>& depthAt) {
     std::vector<Target> targets;
-    {
-        double xMin = profile.dean.shorelineX;
-        for (int k = 0; k < 4; ++k) {
-            Target t;
-            t.top = 0.5 + 0.75 * k;
-            RandomStream rs(seed, 11, static_cast<uint64_t>(k));
-            t.y = -9.0 + 2.0 * (rs.uniform() - 0.5);  // a row 9 m south of the centre line, jittered +-1 m
-            // First position offshore where the seabed under the whole footprint is at least 0.35 m
-            // below the target's top, and at least 4 m from the previous target.
-            for (double x = xMin; x < kX1 - 3; x += 0.25) {
-                double shallow = 1e9, deep = -1e9;
-                for (double dx : {-1.0, 0.0, 1.0})
-                    for (double dy : {-1.0, 0.0, 1.0}) {
-                        shallow = std::min(shallow, depthAt(x + dx, t.y + dy));
-                        deep = std::max(deep, depthAt(x + dx, t.y + dy));
-                    }
-                if (shallow >= t.top + 0.35) {
-                    t.x = x;
-                    t.height = deep - t.top + 0.5;  // the pedestal reaches 0.5 m into the seabed
-                    break;
+    double xMin = shorelineX;
+    for (int k = 0; k < 4; ++k) {
+        Target t;
+        t.top = 0.5 + 0.75 * k;
+        RandomStream rs(seed, 11, static_cast<uint64_t>(k));
+        t.y = -9.0 + 2.0 * (rs.uniform() - 0.5);  // jittered +-1 m
+        // First position offshore where the seabed under the whole footprint is at least 0.35 m
+        // below the target's top, and at least 4 m from the previous target.
+        for (double x = xMin; x < kX1 - 3; x += 0.25) {
+            double shallow = 1e9, deep = -1e9;
+            for (double dx : {-1.0, 0.0, 1.0})
+                for (double dy : {-1.0, 0.0, 1.0}) {
+                    shallow = std::min(shallow, depthAt(x + dx, t.y + dy));
+                    deep = std::max(deep, depthAt(x + dx, t.y + dy));
                 }
+            if (shallow >= t.top + 0.35) {
+                t.x = x;
+                t.height = deep - t.top + 0.5;  // the pedestal reaches 0.5 m into the seabed
+                break;
             }
-            if (t.height <= 0) throw InternalError(fmt::format("synthetic site: no place deep enough for a target at {} m", t.top));
-            xMin = t.x + 4.0;
-            targets.push_back(t);
-            s.targetTopDepths.push_back(t.top);
         }
+        if (t.height <= 0) throw InternalError(fmt::format("synthetic site: no place deep enough for a target at {} m", t.top));
+        xMin = t.x + 4.0;
+        targets.push_back(t);
     }
+    return targets;
+}
 
-    // ---- classification map ----
+// The ground class at (x, y) with terrain elevation z (m).
+uint8_t classAt(uint64_t seed, double x, double y, double z, const std::vector<Target>& targets) {
+    const bool pier = x >= kPierX - 0.2 && x <= kPierX + kPierLength + 0.2 && std::abs(y - kPierY) <= 0.5 * kPierWidth + 0.2;
+    const bool slab = x >= kPierX - 6 && x <= kPierX && y >= kPierY - 3 && y <= kPierY + 3;
+    bool nearTarget = false;
+    for (const auto& t : targets) nearTarget = nearTarget || (std::abs(x - t.x) < 2.5 && std::abs(y - t.y) < 2.5);
+    if (z > 0.6) {
+        if (pier || slab) return Concrete;
+        if (x < -34 && y > 8 && valueNoise(seed, 21, x, y, 4.0) > 0.55) return Trees;
+        if (x < -28 + 4 * (valueNoise(seed, 22, x, y, 6.0) - 0.5) && y > 2) return Grass;
+        return DrySand;
+    }
+    if (pier && z > -0.2) return Concrete;  // under the landward end of the pier deck
+    if (z < -0.8 && !nearTarget && valueNoise(seed, 23, x, y, 5.0) * 0.7 + valueNoise(seed, 24, x, y, 1.5) * 0.3 > 0.62)
+        return SubmergedVegetation;
+    return WetSand;
+}
+
+void writeClassMap(const fs::path& dir, const SiteOptions& opt, const bathymetry::Terrain& terrain,
+                   const std::vector<Target>& targets, SiteSummary& s) {
     const int W = static_cast<int>(std::lround((kX1 - kX0) / opt.mapResolution));
     const int H = static_cast<int>(std::lround((kY1 - kY0) / opt.mapResolution));
     std::vector<uint8_t> cls(static_cast<size_t>(W) * H);
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i) {
             const double x = kX0 + (i + 0.5) * opt.mapResolution, y = kY1 - (j + 0.5) * opt.mapResolution;
-            const double z = terrain->elevation(x, y);
-            uint8_t c;
-            const bool pier = x >= kPierX - 0.2 && x <= kPierX + kPierLength + 0.2 && std::abs(y - kPierY) <= 0.5 * kPierWidth + 0.2;
-            const bool slab = x >= kPierX - 6 && x <= kPierX && y >= kPierY - 3 && y <= kPierY + 3;
-            bool nearTarget = false;
-            for (const auto& t : targets) nearTarget = nearTarget || (std::abs(x - t.x) < 2.5 && std::abs(y - t.y) < 2.5);
-            if (z > 0.6) {
-                if (pier || slab) c = Concrete;
-                else if (x < -34 && y > 8 && valueNoise(seed, 21, x, y, 4.0) > 0.55) c = Trees;
-                else if (x < -28 + 4 * (valueNoise(seed, 22, x, y, 6.0) - 0.5) && y > 2) c = Grass;
-                else c = DrySand;
-            } else if (pier && z > -0.2) {
-                c = Concrete;  // under the landward end of the pier deck
-            } else if (z < -0.8 && !nearTarget && valueNoise(seed, 23, x, y, 5.0) * 0.7 + valueNoise(seed, 24, x, y, 1.5) * 0.3 > 0.62) {
-                c = SubmergedVegetation;
-            } else {
-                c = WetSand;
-            }
-            cls[static_cast<size_t>(j) * W + i] = c;
+            cls[static_cast<size_t>(j) * W + i] = classAt(opt.seed, x, y, terrain.elevation(x, y), targets);
         }
     writeImageAtomic(dir / "classes.png", W, H, cls, OIIO::TypeDesc::UINT8);
     s.files.push_back(dir / "classes.png");
+}
 
-    // ---- class textures: 64 x 64 grey noise, two octaves ----
+// Class textures: 64 x 64 grey noise, two octaves.
+void writeClassTextures(const fs::path& dir, uint64_t seed, SiteSummary& s) {
     for (int k = 0; k < 6; ++k) {
         const auto& ci = kClasses[k];
         std::vector<uint8_t> tex(64 * 64);
@@ -213,22 +199,18 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
         writeImageAtomic(p, 64, 64, tex, OIIO::TypeDesc::UINT8);
         s.files.push_back(p);
     }
+}
 
-    // ---- objects ----
-    const fs::path od = dir / "objects";
-    PierParams pp;
-    pp.length = kPierLength;
-    pp.width = kPierWidth;
-    pp.deckBottom = 1.6;
-    pp.pilingRadius = 0.18;
-    pp.pilingBottom = -5;
-    writeMesh(od, "pier.ply", makePier(pp), &s.files);
+void writeSiteObjects(const fs::path& od, const std::vector<Target>& targets, SiteSummary& s) {
+    writeMesh(od, "pier.ply", makePier(sitePier()), &s.files);
     writeMesh(od, "boat.ply", makeBoat(5.0, 2.0, 0.8), &s.files);
     writeMesh(od, "buoy.ply", makeBuoy(0.4, 1.8), &s.files);
     for (size_t k = 0; k < targets.size(); ++k)
         writeMesh(od, fmt::format("step_target_{}.ply", k + 1), makeStepTarget(2.0, targets[k].height), &s.files);
+}
 
-    // ---- scene file ----
+// The scene file's sections up to the water, its surface and optics.
+std::string siteSceneAndWater(uint64_t seed, const SiteOptions& opt) {
     std::string y;
     y += fmt::format("# Synthetic coastal site (Littoral data_synthetic/gen_coastal_site, seed {}).\n", seed);
     y += "# 90 m x 60 m: beach and berm to the west, Dean-profile seabed with a sandbar, six ground classes,\n";
@@ -249,6 +231,12 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     // Table 10.3 "low" water (HG g = 0.88) with its in-scattered light from the volume photon map
     // (Table 10.4: MediumPM for the water volume).
     y += "  optics:\n    preset: low\n    solver: medium-pm\n";
+    return y;
+}
+
+// The scene file's bathymetry, materials and texture classes.
+std::string siteGround(const bathymetry::BarTrough& profile) {
+    std::string y;
     y += "bathymetry:\n  type: bar_trough\n";
     y += fmt::format("  A: {}\n  shoreline_x_m: {}\n  offshore: \"+x\"\n  beach_slope: {}\n  berm_height_m: {}\n",
                      profile.dean.A, profile.dean.shorelineX, profile.dean.beachSlope, profile.dean.bermHeight);
@@ -271,6 +259,12 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
                          "       reflectance: {}}}\n",
                          k, ci.name, ci.name, ci.mean, ci.stddev, ci.solver, spectrumYaml(ci.reflectance));
     }
+    return y;
+}
+
+// The scene file's objects and render settings.
+std::string siteObjectsAndRender(const std::vector<Target>& targets) {
+    std::string y;
     y += "objects:\n";
     y += fmt::format("  - {{name: pier, mesh: objects/pier.ply, materials: [pier-cement, pier-cement], "
                      "position_m: [{}, {}], heading_deg: 90, z_m: 0}}\n",
@@ -288,8 +282,39 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     y += "render:\n  bands: {range_um: [0.4, 0.6], count: 2}\n  seed: 1\n"
          "  photons: {surface: 2000000, volume: 2000000}\n  search_radius_m: {surface: 0.4, volume: 0.4}\n"
          "  march_step_m: 0.5\n";
+    return y;
+}
+
+}  // namespace
+
+std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
+    createOutputFolder(dir);
+    std::vector<fs::path> files;
+    writeMesh(dir, "barge.ply", makeBarge(4.0, 12.0, 1.5), &files);    // slots: 0 hull, 1 deck
+    writeMesh(dir, "boat.ply", makeBoat(5.0, 2.0, 0.8), &files);       // slots: 0 hull, 1 deck
+    writeMesh(dir, "buoy.ply", makeBuoy(0.4, 1.8), &files);            // slot 0
+    writeMesh(dir, "pier.ply", makePier(sitePier()), &files);          // slots: 0 deck, 1 pilings
+    writeMesh(dir, "step_target.ply", makeStepTarget(2.0, 1.0), &files);  // slots: 0 bright, 1 dark
+    writeMesh(dir, "cube.ply", makeBox(1.0, 1.0, 1.0), &files);         // slot 0 (a 1 m cube, base at z = 0)
+    return files;
+}
+
+SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
+    SiteSummary s;
+    createOutputFolder(dir / "textures");
+    createOutputFolder(dir / "objects");
+    const uint64_t seed = opt.seed;
+    const auto profile = siteProfile();
+    const auto terrain = bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
+    const std::vector<Target> targets = placeTargets(
+        seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain->elevation(x, y); });
+    for (const auto& t : targets) s.targetTopDepths.push_back(t.top);
+
+    writeClassMap(dir, opt, *terrain, targets, s);
+    writeClassTextures(dir, seed, s);
+    writeSiteObjects(dir / "objects", targets, s);
     s.sceneFile = dir / "scene.yaml";
-    writeTextFileAtomic(s.sceneFile, y);
+    writeTextFileAtomic(s.sceneFile, siteSceneAndWater(seed, opt) + siteGround(profile) + siteObjectsAndRender(targets));
     s.files.push_back(s.sceneFile);
     // The site is complete: publish it (inside a command's output set the files are only staged
     // until now), so its sizes can be read and the build that follows can read it.

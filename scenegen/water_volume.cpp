@@ -394,33 +394,44 @@ bool solidsOverlap(const TriMesh& a, const TriMesh& b) {
     return PMP::do_intersect(ma, mb);
 }
 
-WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
-    WaterVolumeResult res;
+namespace {
+
+// The stages of buildWaterVolume.
+
+void checkWaterVolumeInput(const WaterVolumeInput& in) {
     const auto& d = in.domain;
     if (!d.valid()) throw InputError(fmt::format("scene domain [{}, {}] x [{}, {}] m is empty", d.x0, d.x1, d.y0, d.y1));
     if (!in.elevation) throw InternalError("buildWaterVolume: no terrain elevation function");
     if (in.terrainMaterials.empty()) throw InternalError("buildWaterVolume: no terrain materials");
     if (!(in.terrainSpacing > 0)) throw InputError(fmt::format("terrain spacing {} m must be positive", in.terrainSpacing));
-    const size_t nTerrain = in.terrainMaterials.size();
+}
 
-    // ---- 1. water prism (clip now, close once z_lo is known) ----
-    auto t0 = Clock::now();
+// 1. The top of the water prism: the surface clipped to the domain, which it must cover.
+TriMesh waterPrismTop(const WaterVolumeInput& in) {
+    const auto& d = in.domain;
     TriMesh surf = in.surface;
     surf.faceMaterial.assign(surf.triangles.size(), kTagInterface);
     TriMesh top = clipToRectangle(surf, d);
-    {
-        double a2 = 0;
-        for (size_t f = 0; f < top.triangles.size(); ++f) a2 += top.faceNormalArea(f).z;
-        const double domainArea = d.width() * d.height();
-        // Twice the plan area from the cross products; a height field seen from above has all
-        // z-components positive, so the sum is exactly the covered area (up to rounding ~1e-12).
-        if (std::abs(0.5 * a2 - domainArea) > 1e-9 * domainArea)
-            throw InputError(fmt::format("the water surface covers {:.6g} m^2 of the {:.6g} m^2 scene domain; it must "
-                                         "cover all of [{}, {}] x [{}, {}] m (and face upward)",
-                                         0.5 * a2, domainArea, d.x0, d.x1, d.y0, d.y1));
-    }
+    double a2 = 0;
+    for (size_t f = 0; f < top.triangles.size(); ++f) a2 += top.faceNormalArea(f).z;
+    const double domainArea = d.width() * d.height();
+    // Twice the plan area from the cross products; a height field seen from above has all
+    // z-components positive, so the sum is exactly the covered area (up to rounding ~1e-12).
+    if (std::abs(0.5 * a2 - domainArea) > 1e-9 * domainArea)
+        throw InputError(fmt::format("the water surface covers {:.6g} m^2 of the {:.6g} m^2 scene domain; it must "
+                                     "cover all of [{}, {}] x [{}, {}] m (and face upward)",
+                                     0.5 * a2, domainArea, d.x0, d.x1, d.y0, d.y1));
+    return top;
+}
 
-    // ---- 2. terrain solid over the domain grown by 1.5 cells ----
+// 2. The terrain grid: the domain grown by 1.5 cells, cells no wider than the terrain spacing.
+struct TerrainGridSpec {
+    bathymetry::Extent grown;
+    int nx = 0, ny = 0;  // cells across `grown`
+};
+
+TerrainGridSpec terrainGridSpec(const WaterVolumeInput& in) {
+    const auto& d = in.domain;
     const int nxIn = std::max(1, static_cast<int>(std::ceil(d.width() / in.terrainSpacing - 1e-9)));
     const int nyIn = std::max(1, static_cast<int>(std::ceil(d.height() / in.terrainSpacing - 1e-9)));
     const double sx = d.width() / nxIn, sy = d.height() / nyIn;
@@ -429,17 +440,237 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
                                      nxIn, nyIn));
     // Half-cell offset: the domain edges fall in the middle of grid cells, never on grid lines, so
     // no terrain edge lies in the prism's wall planes (no coplanar configurations for the booleans).
-    const bathymetry::Extent grown{d.x0 - 1.5 * sx, d.y0 - 1.5 * sy, d.x1 + 1.5 * sx, d.y1 + 1.5 * sy};
-    auto tagAt = [&](double x, double y) -> uint16_t {
-        const uint16_t slot = in.terrainMaterialAt
-                                  ? in.terrainMaterialAt(std::clamp(x, d.x0, d.x1), std::clamp(y, d.y0, d.y1))
-                                  : 0;
-        if (slot >= nTerrain) throw InternalError(fmt::format("terrain material slot {} out of range", slot));
-        return static_cast<uint16_t>(kTagTerrainBase + slot);
+    return {{d.x0 - 1.5 * sx, d.y0 - 1.5 * sy, d.x1 + 1.5 * sx, d.y1 + 1.5 * sy}, nxIn + 3, nyIn + 3};
+}
+
+// The tag of a terrain face from its plan-view centroid (clamped into the domain).
+uint16_t terrainTag(const WaterVolumeInput& in, double x, double y) {
+    const auto& d = in.domain;
+    const uint16_t slot =
+        in.terrainMaterialAt ? in.terrainMaterialAt(std::clamp(x, d.x0, d.x1), std::clamp(y, d.y0, d.y1)) : 0;
+    if (slot >= in.terrainMaterials.size())
+        throw InternalError(fmt::format("terrain material slot {} out of range", slot));
+    return static_cast<uint16_t>(kTagTerrainBase + slot);
+}
+
+// 3. water = prism - terrain (in place on `prism`), land = terrain - prism (in place on
+// `terrain`): one corefinement.
+void corefinePrismAndTerrain(SM& prism, SM& terrain) {
+    TagVisitor vis;
+    std::array<boost::optional<SM*>, 4> outputs;
+    outputs[PMP::Corefinement::TM1_MINUS_TM2] = &prism;
+    outputs[PMP::Corefinement::TM2_MINUS_TM1] = &terrain;
+    std::array<bool, 4> ok{};
+    try {
+        ok = PMP::corefine_and_compute_boolean_operations(
+            prism, terrain, outputs, PMP::parameters::visitor(vis).throw_on_self_intersection(true),
+            PMP::parameters::default_values());
+    } catch (const PMP::Corefinement::Self_intersection_exception&) {
+        throw InputError("water volume: the wave surface or the terrain intersects itself");
+    }
+    if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::TM2_MINUS_TM1])
+        throw InputError("water volume: the boolean of the water prism and the terrain is not a manifold closed "
+                         "surface (the surface touches the seabed along an edge?)");
+}
+
+// Land: the terrain top faces of terrain - prism, clipped to the domain; slots index the terrain
+// materials.
+TriMesh landOf(const SM& terrainMinusPrism, size_t nTerrain, const bathymetry::Extent& domain) {
+    TriMesh landAll = fromSurfaceMesh(terrainMinusPrism);
+    weldVertices(landAll, kWeldEps);
+    TriMesh tops;
+    tops.positions = landAll.positions;
+    for (size_t f = 0; f < landAll.triangles.size(); ++f) {
+        const uint16_t tag = landAll.faceMaterial[f];
+        if (tag < kTagTerrainBase || tag >= kTagTerrainBase + nTerrain) continue;
+        tops.triangles.push_back(landAll.triangles[f]);
+        tops.faceMaterial.push_back(static_cast<uint16_t>(tag - kTagTerrainBase));
+    }
+    return clipToRectangle(tops, domain);
+}
+
+// 4. Solids.
+void checkSolidsDisjoint(const std::vector<PlacedSolid>& solids) {
+    for (size_t i = 0; i < solids.size(); ++i)
+        for (size_t j = i + 1; j < solids.size(); ++j) {
+            const BBox3 bi = solids[i].mesh.bounds(), bj = solids[j].mesh.bounds();
+            const bool boxes = bi.lo.x <= bj.hi.x && bj.lo.x <= bi.hi.x && bi.lo.y <= bj.hi.y && bj.lo.y <= bi.hi.y &&
+                               bi.lo.z <= bj.hi.z && bj.lo.z <= bi.hi.z;
+            if (boxes && solidsOverlap(solids[i].mesh, solids[j].mesh))
+                throw InputError(fmt::format("objects '{}' and '{}' intersect or one contains the other; solids in a "
+                                             "scene must be disjoint",
+                                             solids[i].name, solids[j].name));
+        }
+}
+
+using TagRange = std::pair<uint16_t, uint16_t>;  // [first, last) face tag of one solid
+
+// All solids in one mesh, each solid's material slots tagged after `names` (which gains the
+// solids' materials); `ranges` receives each solid's tags.
+TriMesh tagSolids(const std::vector<PlacedSolid>& solids, std::vector<std::string>* names,
+                  std::vector<TagRange>* ranges) {
+    TriMesh all;
+    for (const auto& s : solids) {
+        const uint16_t base = static_cast<uint16_t>(names->size());
+        TriMesh sm = s.mesh;
+        if (sm.faceMaterial.empty()) sm.faceMaterial.assign(sm.triangles.size(), 0);
+        for (auto& m : sm.faceMaterial) {
+            if (m >= s.materials.size())
+                throw InputError(fmt::format("object '{}': face material slot {} has no material (it lists {})", s.name,
+                                             m, s.materials.size()));
+            m = static_cast<uint16_t>(m + base);
+        }
+        for (const auto& n : s.materials) names->push_back(n);
+        ranges->push_back({base, static_cast<uint16_t>(names->size())});
+        if (!CGAL::is_closed(toSurfaceMesh(sm, "object '" + s.name + "'")))
+            throw InputError("object '" + s.name + "' is not a closed solid");
+        all.append(sm);
+    }
+    return all;
+}
+
+// Per solid with keepDryPart, its own faces (its tags) of S - W; the faces W contributed there
+// (the water surface and seabed inside the solid) are not surfaces of the object.
+std::vector<TriMesh> dryPartsOf(const SM& dry, const std::vector<PlacedSolid>& solids,
+                                const std::vector<TagRange>& ranges) {
+    TriMesh all = fromSurfaceMesh(dry);
+    weldVertices(all, kWeldEps);
+    std::vector<TriMesh> parts(solids.size());
+    for (size_t k = 0; k < solids.size(); ++k) {
+        if (!solids[k].keepDryPart) continue;
+        TriMesh part;
+        std::vector<uint32_t> remap(all.positions.size(), UINT32_MAX);
+        for (size_t f = 0; f < all.triangles.size(); ++f) {
+            const uint16_t tag = all.faceMaterial[f];
+            if (tag < ranges[k].first || tag >= ranges[k].second) continue;
+            std::array<uint32_t, 3> t{};
+            for (int c = 0; c < 3; ++c) {
+                uint32_t& r = remap[all.triangles[f][c]];
+                if (r == UINT32_MAX) {
+                    r = static_cast<uint32_t>(part.positions.size());
+                    part.positions.push_back(all.positions[all.triangles[f][c]]);
+                }
+                t[c] = r;
+            }
+            part.triangles.push_back(t);
+            part.faceMaterial.push_back(static_cast<uint16_t>(tag - ranges[k].first));
+        }
+        parts[k] = std::move(part);
+    }
+    return parts;
+}
+
+// Displacement per solid: volumes of the components of W n S (divergence theorem per face), each
+// credited to the solid whose faces it holds.
+std::vector<double> displacedVolumes(const SM& removedWater, const std::vector<TagRange>& ranges) {
+    TriMesh removed = fromSurfaceMesh(removedWater);
+    weldVertices(removed, kWeldEps);
+    std::vector<uint32_t> parent(removed.positions.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::function<uint32_t(uint32_t)> find = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
     };
+    for (const auto& t : removed.triangles) {
+        parent[find(t[1])] = find(t[0]);
+        parent[find(t[2])] = find(t[0]);
+    }
+    std::map<uint32_t, double> volumeOf;
+    std::map<uint32_t, int> ownerOf;
+    for (size_t f = 0; f < removed.triangles.size(); ++f) {
+        const auto& t = removed.triangles[f];
+        const Point3 &a = removed.positions[t[0]], &b = removed.positions[t[1]], &c = removed.positions[t[2]];
+        const uint32_t root = find(t[0]);
+        volumeOf[root] += dot(a, cross(b, c)) / 6.0;
+        const uint16_t tag = removed.faceMaterial[f];
+        for (size_t k = 0; k < ranges.size(); ++k)
+            if (tag >= ranges[k].first && tag < ranges[k].second) ownerOf[root] = static_cast<int>(k);
+    }
+    std::vector<double> displaced(ranges.size(), 0.0);
+    for (const auto& [root, v] : volumeOf) {
+        auto it = ownerOf.find(root);
+        if (it == ownerOf.end()) throw InternalError("water volume: a region removed by the objects has no object face");
+        displaced[it->second] += v;
+    }
+    return displaced;
+}
+
+// The solids are pairwise disjoint (checked before), so together they form one valid closed
+// multi-component mesh S, and one corefinement gives both W - S (in place on W) and the removed
+// water W n S (in place on S). Each component of W n S lies in exactly one object; its volume is
+// that object's displacement. `names` gains the solids' materials.
+void subtractSolids(const std::vector<PlacedSolid>& solids, SM& W, std::vector<std::string>* names,
+                    WaterVolumeResult* res) {
+    std::vector<TagRange> ranges;
+    SM S = toSurfaceMesh(tagSolids(solids, names, &ranges), "objects");
+    TagVisitor vis;
+    std::array<boost::optional<SM*>, 4> outputs;
+    outputs[PMP::Corefinement::TM1_MINUS_TM2] = &W;
+    outputs[PMP::Corefinement::INTERSECTION] = &S;
+    // S - W: the solids' surfaces outside the water, wanted for transparent objects.
+    bool wantDry = false;
+    for (const auto& s : solids) wantDry = wantDry || s.keepDryPart;
+    SM dry;
+    dry.add_property_map<FI, int>(kTagProperty, -1);
+    if (wantDry) outputs[PMP::Corefinement::TM2_MINUS_TM1] = &dry;
+    std::array<bool, 4> ok{};
+    try {
+        ok = PMP::corefine_and_compute_boolean_operations(W, S, outputs,
+                                                          PMP::parameters::visitor(vis).throw_on_self_intersection(true),
+                                                          PMP::parameters::default_values());
+    } catch (const PMP::Corefinement::Self_intersection_exception&) {
+        throw InputError("an object mesh intersects itself; run `littoral check-mesh` on the object meshes");
+    }
+    if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::INTERSECTION] ||
+        (wantDry && !ok[PMP::Corefinement::TM2_MINUS_TM1]))
+        throw InputError("subtracting the objects from the water does not give a manifold closed surface (does an "
+                         "object touch the seabed, the water surface or the domain wall exactly along an edge?)");
+    if (wantDry) res->dryParts = dryPartsOf(dry, solids, ranges);
+    res->displaced = displacedVolumes(S, ranges);
+}
+
+// The final water mesh: faces re-slotted to a compact list of material names (several objects may
+// share a material, the step targets), counted by role.
+void finishWaterMesh(const SM& W, const std::vector<std::string>& names, size_t nTerrain, WaterVolumeResult* res) {
+    TriMesh out = fromSurfaceMesh(W);
+    weldVertices(out, kWeldEps);
+    std::vector<int> newSlot(names.size(), -1);
+    std::map<std::string, int> slotOfName;
+    for (auto& m : out.faceMaterial) {
+        if (m == kTagPrismBottom || m == kTagTerrainSkirt)
+            throw InternalError("water volume: a construction face (prism bottom or terrain skirt) survived the booleans");
+        if (newSlot[m] < 0) {
+            auto [it, inserted] = slotOfName.try_emplace(names[m], static_cast<int>(res->waterMaterials.size()));
+            if (inserted) res->waterMaterials.push_back(names[m]);
+            newSlot[m] = it->second;
+        }
+        if (m == kTagInterface) ++res->interfaceFaces;
+        else if (m == kTagWall) ++res->wallFaces;
+        else if (m < kTagTerrainBase + nTerrain) ++res->seabedFaces;
+        else ++res->objectFaces;
+        m = static_cast<uint16_t>(newSlot[m]);
+    }
+    res->water = std::move(out);
+}
+
+}  // namespace
+
+WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
+    WaterVolumeResult res;
+    const auto& d = in.domain;
+    checkWaterVolumeInput(in);
+    const size_t nTerrain = in.terrainMaterials.size();
+
+    // ---- 1. water prism (clip now, close once z_lo is known) ----
+    auto t0 = Clock::now();
+    const TriMesh top = waterPrismTop(in);
+
+    // ---- 2. terrain solid over the domain grown by 1.5 cells ----
+    const TerrainGridSpec grid = terrainGridSpec(in);
     res.secondsPrism = secondsSince(t0);
     auto t1 = Clock::now();
-    TriMesh terrain = terrainGrid(in.elevation, grown, nxIn + 3, nyIn + 3, tagAt);
+    const TriMesh terrain = terrainGrid(in.elevation, grid.grown, grid.nx, grid.ny,
+                                        [&in](double x, double y) { return terrainTag(in, x, y); });
     double zMin = std::numeric_limits<double>::infinity();
     for (const auto& p : terrain.positions) zMin = std::min(zMin, p.z);
     for (const auto& p : top.positions) zMin = std::min(zMin, p.z);
@@ -450,7 +681,7 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
     res.prismVolume = prism.signedVolume();
     res.secondsPrism += secondsSince(tp);
     t1 = Clock::now();
-    TriMesh terrainSolid = closeDownward(terrain, res.zLo - 1.0, grown, kTagTerrainSkirt, kTagTerrainSkirt);
+    TriMesh terrainSolid = closeDownward(terrain, res.zLo - 1.0, grid.grown, kTagTerrainSkirt, kTagTerrainSkirt);
     res.terrainTop = clipToRectangle(terrain, d);
     for (auto& m : res.terrainTop.faceMaterial) m = static_cast<uint16_t>(m - kTagTerrainBase);
     res.secondsTerrain += secondsSince(t1);
@@ -461,23 +692,7 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
     SM T = toSurfaceMesh(terrainSolid, "terrain solid");
     checkClosedSM(P, "water prism");
     checkClosedSM(T, "terrain solid");
-    {
-        TagVisitor vis;
-        std::array<boost::optional<SM*>, 4> outputs;
-        outputs[PMP::Corefinement::TM1_MINUS_TM2] = &P;
-        outputs[PMP::Corefinement::TM2_MINUS_TM1] = &T;
-        std::array<bool, 4> ok{};
-        try {
-            ok = PMP::corefine_and_compute_boolean_operations(
-                P, T, outputs, PMP::parameters::visitor(vis).throw_on_self_intersection(true),
-                PMP::parameters::default_values());
-        } catch (const PMP::Corefinement::Self_intersection_exception&) {
-            throw InputError("water volume: the wave surface or the terrain intersects itself");
-        }
-        if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::TM2_MINUS_TM1])
-            throw InputError("water volume: the boolean of the water prism and the terrain is not a manifold closed "
-                             "surface (the surface touches the seabed along an edge?)");
-    }
+    corefinePrismAndTerrain(P, T);
     if (P.number_of_faces() == 0)
         throw InputError(fmt::format("there is no water in the scene domain: the terrain lies above the water surface "
                                      "everywhere in [{}, {}] x [{}, {}] m",
@@ -485,20 +700,7 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
     TriMesh water = fromSurfaceMesh(P);
     weldVertices(water, kWeldEps);
     res.waterVolumeBeforeSolids = water.signedVolume();
-    {
-        // Land: terrain top faces of T - P, clipped to the domain.
-        TriMesh landAll = fromSurfaceMesh(T);
-        weldVertices(landAll, kWeldEps);
-        TriMesh tops;
-        tops.positions = landAll.positions;
-        for (size_t f = 0; f < landAll.triangles.size(); ++f) {
-            const uint16_t tag = landAll.faceMaterial[f];
-            if (tag < kTagTerrainBase || tag >= kTagTerrainBase + nTerrain) continue;
-            tops.triangles.push_back(landAll.triangles[f]);
-            tops.faceMaterial.push_back(static_cast<uint16_t>(tag - kTagTerrainBase));
-        }
-        res.land = clipToRectangle(tops, d);
-    }
+    res.land = landOf(T, nTerrain, d);
     res.secondsBoolean = secondsSince(t2);
 
     // ---- 4. solids ----
@@ -507,146 +709,13 @@ WaterVolumeResult buildWaterVolume(const WaterVolumeInput& in) {
     names[kTagInterface] = in.interfaceMaterial;
     names[kTagWall] = in.wallMaterial;
     for (size_t k = 0; k < nTerrain; ++k) names[kTagTerrainBase + k] = in.terrainMaterials[k];
-    for (size_t i = 0; i < in.solids.size(); ++i)
-        for (size_t j = i + 1; j < in.solids.size(); ++j) {
-            const BBox3 bi = in.solids[i].mesh.bounds(), bj = in.solids[j].mesh.bounds();
-            const bool boxes = bi.lo.x <= bj.hi.x && bj.lo.x <= bi.hi.x && bi.lo.y <= bj.hi.y && bj.lo.y <= bi.hi.y &&
-                               bi.lo.z <= bj.hi.z && bj.lo.z <= bi.hi.z;
-            if (boxes && solidsOverlap(in.solids[i].mesh, in.solids[j].mesh))
-                throw InputError(fmt::format("objects '{}' and '{}' intersect or one contains the other; solids in a "
-                                             "scene must be disjoint",
-                                             in.solids[i].name, in.solids[j].name));
-        }
+    checkSolidsDisjoint(in.solids);
     SM W = toSurfaceMesh(water, "water volume");
-    // The solids are pairwise disjoint (checked above), so together they form one valid closed
-    // multi-component mesh S, and one corefinement gives both W - S (in place on W) and the
-    // removed water W n S (in place on S). Each component of W n S lies in exactly one object;
-    // its volume is that object's displacement.
-    if (!in.solids.empty()) {
-        TriMesh all;
-        std::vector<std::pair<uint16_t, uint16_t>> tagRange;  // [first, last) tag of each solid
-        for (const auto& s : in.solids) {
-            const uint16_t base = static_cast<uint16_t>(names.size());
-            TriMesh sm = s.mesh;
-            if (sm.faceMaterial.empty()) sm.faceMaterial.assign(sm.triangles.size(), 0);
-            for (auto& m : sm.faceMaterial) {
-                if (m >= s.materials.size())
-                    throw InputError(fmt::format("object '{}': face material slot {} has no material (it lists {})", s.name,
-                                                 m, s.materials.size()));
-                m = static_cast<uint16_t>(m + base);
-            }
-            for (const auto& n : s.materials) names.push_back(n);
-            tagRange.push_back({base, static_cast<uint16_t>(names.size())});
-            if (!CGAL::is_closed(toSurfaceMesh(sm, "object '" + s.name + "'")))
-                throw InputError("object '" + s.name + "' is not a closed solid");
-            all.append(sm);
-        }
-        SM S = toSurfaceMesh(all, "objects");
-        TagVisitor vis;
-        std::array<boost::optional<SM*>, 4> outputs;
-        outputs[PMP::Corefinement::TM1_MINUS_TM2] = &W;
-        outputs[PMP::Corefinement::INTERSECTION] = &S;
-        // S - W: the solids' surfaces outside the water, wanted for transparent objects.
-        bool wantDry = false;
-        for (const auto& s : in.solids) wantDry = wantDry || s.keepDryPart;
-        SM dry;
-        dry.add_property_map<FI, int>(kTagProperty, -1);
-        if (wantDry) outputs[PMP::Corefinement::TM2_MINUS_TM1] = &dry;
-        std::array<bool, 4> ok{};
-        try {
-            ok = PMP::corefine_and_compute_boolean_operations(W, S, outputs,
-                                                              PMP::parameters::visitor(vis).throw_on_self_intersection(true),
-                                                              PMP::parameters::default_values());
-        } catch (const PMP::Corefinement::Self_intersection_exception&) {
-            throw InputError("an object mesh intersects itself; run `littoral check-mesh` on the object meshes");
-        }
-        if (!ok[PMP::Corefinement::TM1_MINUS_TM2] || !ok[PMP::Corefinement::INTERSECTION] ||
-            (wantDry && !ok[PMP::Corefinement::TM2_MINUS_TM1]))
-            throw InputError("subtracting the objects from the water does not give a manifold closed surface (does an "
-                             "object touch the seabed, the water surface or the domain wall exactly along an edge?)");
-        if (wantDry) {
-            // Keep each wanted solid's own faces (its tags) from S - W; the faces W contributed there
-            // (the water surface and seabed inside the solid) are not surfaces of the object.
-            TriMesh all = fromSurfaceMesh(dry);
-            weldVertices(all, kWeldEps);
-            res.dryParts.assign(in.solids.size(), TriMesh{});
-            for (size_t k = 0; k < in.solids.size(); ++k) {
-                if (!in.solids[k].keepDryPart) continue;
-                TriMesh part;
-                std::vector<uint32_t> remap(all.positions.size(), UINT32_MAX);
-                for (size_t f = 0; f < all.triangles.size(); ++f) {
-                    const uint16_t tag = all.faceMaterial[f];
-                    if (tag < tagRange[k].first || tag >= tagRange[k].second) continue;
-                    std::array<uint32_t, 3> t{};
-                    for (int c = 0; c < 3; ++c) {
-                        uint32_t& r = remap[all.triangles[f][c]];
-                        if (r == UINT32_MAX) {
-                            r = static_cast<uint32_t>(part.positions.size());
-                            part.positions.push_back(all.positions[all.triangles[f][c]]);
-                        }
-                        t[c] = r;
-                    }
-                    part.triangles.push_back(t);
-                    part.faceMaterial.push_back(static_cast<uint16_t>(tag - tagRange[k].first));
-                }
-                res.dryParts[k] = std::move(part);
-            }
-        }
-        // Displacement per object: volumes of the components of W n S (divergence theorem per face).
-        TriMesh removed = fromSurfaceMesh(S);
-        weldVertices(removed, kWeldEps);
-        std::vector<uint32_t> parent(removed.positions.size());
-        std::iota(parent.begin(), parent.end(), 0u);
-        std::function<uint32_t(uint32_t)> find = [&](uint32_t x) {
-            while (parent[x] != x) x = parent[x] = parent[parent[x]];
-            return x;
-        };
-        for (const auto& t : removed.triangles) {
-            parent[find(t[1])] = find(t[0]);
-            parent[find(t[2])] = find(t[0]);
-        }
-        std::map<uint32_t, double> volumeOf;
-        std::map<uint32_t, int> ownerOf;
-        for (size_t f = 0; f < removed.triangles.size(); ++f) {
-            const auto& t = removed.triangles[f];
-            const Point3 &a = removed.positions[t[0]], &b = removed.positions[t[1]], &c = removed.positions[t[2]];
-            const uint32_t root = find(t[0]);
-            volumeOf[root] += dot(a, cross(b, c)) / 6.0;
-            const uint16_t tag = removed.faceMaterial[f];
-            for (size_t k = 0; k < tagRange.size(); ++k)
-                if (tag >= tagRange[k].first && tag < tagRange[k].second) ownerOf[root] = static_cast<int>(k);
-        }
-        res.displaced.assign(in.solids.size(), 0.0);
-        for (const auto& [root, v] : volumeOf) {
-            auto it = ownerOf.find(root);
-            if (it == ownerOf.end())
-                throw InternalError("water volume: a region removed by the objects has no object face");
-            res.displaced[it->second] += v;
-        }
-    }
+    if (!in.solids.empty()) subtractSolids(in.solids, W, &names, &res);
     res.secondsSolids = secondsSince(t3);
 
     // ---- final mesh with compacted material list ----
-    TriMesh out = fromSurfaceMesh(W);
-    weldVertices(out, kWeldEps);
-    // Slots by material name: several objects may share a material (the step targets).
-    std::vector<int> newSlot(names.size(), -1);
-    std::map<std::string, int> slotOfName;
-    for (auto& m : out.faceMaterial) {
-        if (m == kTagPrismBottom || m == kTagTerrainSkirt)
-            throw InternalError("water volume: a construction face (prism bottom or terrain skirt) survived the booleans");
-        if (newSlot[m] < 0) {
-            auto [it, inserted] = slotOfName.try_emplace(names[m], static_cast<int>(res.waterMaterials.size()));
-            if (inserted) res.waterMaterials.push_back(names[m]);
-            newSlot[m] = it->second;
-        }
-        if (m == kTagInterface) ++res.interfaceFaces;
-        else if (m == kTagWall) ++res.wallFaces;
-        else if (m < kTagTerrainBase + nTerrain) ++res.seabedFaces;
-        else ++res.objectFaces;
-        m = static_cast<uint16_t>(newSlot[m]);
-    }
-    res.water = std::move(out);
+    finishWaterMesh(W, names, nTerrain, &res);
     return res;
 }
 

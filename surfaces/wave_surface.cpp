@@ -135,11 +135,15 @@ double estimateBytes(const WaveParams& p) {
     return 1.2 * (base + field + mesh + std::max({fft, decimation, stats}));
 }
 
-void validateWaveParams(const WaveParams& p) {
-    const bool wind = isWindDriven(p.model);
+namespace {
+
+// The checks of validateWaveParams.
+
+// Each parameter on its own.
+void checkEachParam(const WaveParams& p) {
     if (p.model == WaveModel::CoxMunk) {
         checkCoxMunkWind(p.windSpeed, p.where, keyName(p, Key::Wind));
-    } else if (wind) {
+    } else if (isWindDriven(p.model)) {
         if (!std::isfinite(p.windSpeed) || p.windSpeed <= 0 || p.windSpeed > WaveLimits::kMaxWind)
             fail(p, Key::Wind, fmt::format("{} m/s is not allowed for model {}; allowed: > 0 and <= {} m/s",
                                            p.windSpeed, waveModelName(p.model), WaveLimits::kMaxWind));
@@ -168,9 +172,10 @@ void validateWaveParams(const WaveParams& p) {
     if (!(p.maxMemoryBytes > 0)) fail(p, Key::MaxMemory, "must be > 0");
     if (p.sea != CoxMunkSea::Clean && p.model != WaveModel::CoxMunk)
         fail(p, Key::Sea, fmt::format("applies to model cox-munk only (model {} has its own slopes)", waveModelName(p.model)));
+}
 
-    // Memory, before anything is allocated.
-    const GridSize n = gridSizeFor(p);
+// Memory, before anything is allocated; and the triangle target against the grid.
+void checkGridBudget(const WaveParams& p, const GridSize& n) {
     const double bytes = estimateBytes(p);
     if (bytes > p.maxMemoryBytes)
         fail(p, Key::Spacing, fmt::format("a {} x {} grid ({:.1f} M vertices) needs about {} of memory, more than the "
@@ -182,53 +187,222 @@ void validateWaveParams(const WaveParams& p) {
         fail(p, Key::Triangles, fmt::format("{} is not possible: the {} x {} grid has {:.0f} triangles; allowed "
                                             "{} to {:.0f}, or 0 to keep the full grid", p.triangles, n.nx, n.ny,
                                             gridTris, kMinTriangles, gridTris));
+}
+
+// Resolution of the beaufort model at grid spacing `dmax` (m).
+void checkBeaufortResolution(const WaveParams& p, double dmax) {
+    const double L = beaufortPrediction(p.windSpeed).correlationLength;
+    // Forward-difference slopes lose (1 - exp(-d^2/L^2)) L^2/d^2 of the slope variance: 12% at d = L/2.
+    if (dmax > 0.5 * L)
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
+                                          "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
+    if (std::min(p.sizeX, p.sizeY) < 5 * L)
+        log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
+                  "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
+}
+
+void checkCoxMunkResolution(const WaveParams& p, double dmax) {
+    const SlopeVariances v = coxMunkSlopeVariances(p.windSpeed, p.sea);
+    const double h = coxMunkSurfaceRmsHeight(p.windSpeed);
+    const double L = std::sqrt(2.0) * h / std::sqrt(std::max(v.upwind, v.crosswind));  // the shorter length
+    // As for beaufort: at spacing L/2 forward differences already see 12% less slope variance
+    // (the design compensates, but only while the grid resolves the correlation).
+    if (dmax > 0.5 * L)
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the cox-munk "
+                                          "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); use a spacing <= "
+                                          "{:.4g} m",
+                                          dmax, L, p.windSpeed, h, std::sqrt(std::max(v.upwind, v.crosswind)),
+                                          0.5 * L));
+    // One realisation's slope variance along the wind has relative standard deviation
+    // sqrt(3 pi Lu Lc / (4 A)) (docs/waves.md); warn when it exceeds 5%.
+    const double Lu = std::sqrt(2.0) * h / std::sqrt(v.upwind), Lc = std::sqrt(2.0) * h / std::sqrt(v.crosswind);
+    const double rel = std::sqrt(3.0 * kPi * Lu * Lc / (4.0 * p.sizeX * p.sizeY));
+    if (rel > 0.05)
+        log::warnOnce("waves: a {} x {} m cox-munk surface holds few correlation lengths ({:.3g} x {:.3g} m): its "
+                      "measured slope variances scatter by about {:.0f}% about Cox-Munk's",
+                      p.sizeX, p.sizeY, Lu, Lc, 100 * rel);
+}
+
+// The spectral models (pierson-moskowitz, jonswap, elfouhaily): the grid must resolve the peak.
+void checkSpectralResolution(const WaveParams& p, double dmax) {
+    const WaveSpectrum s(spectrumParamsFor(p));
+    const double lp = 2 * kPi / s.peakWavenumber();
+    if (dmax > 0.5 * lp)
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
+                                          "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
+    if (std::min(p.sizeX, p.sizeY) < lp)
+        log::warnOnce("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
+                  "not represented", std::min(p.sizeX, p.sizeY), lp);
+}
+
+}  // namespace
+
+void validateWaveParams(const WaveParams& p) {
+    checkEachParam(p);
+    const GridSize n = gridSizeFor(p);
+    checkGridBudget(p, n);
 
     // Resolution checks per model.
     const double dmax = std::max(p.sizeX / n.nx, p.sizeY / n.ny);
     if (p.model == WaveModel::Beaufort) {
-        const double L = beaufortPrediction(p.windSpeed).correlationLength;
-        // Forward-difference slopes lose (1 - exp(-d^2/L^2)) L^2/d^2 of the slope variance: 12% at d = L/2.
-        if (dmax > 0.5 * L)
-            fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
-                                              "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
-        if (std::min(p.sizeX, p.sizeY) < 5 * L)
-            log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
-                      "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
+        checkBeaufortResolution(p, dmax);
     } else if (p.model == WaveModel::CoxMunk) {
-        const SlopeVariances v = coxMunkSlopeVariances(p.windSpeed, p.sea);
-        const double h = coxMunkSurfaceRmsHeight(p.windSpeed);
-        const double L = std::sqrt(2.0) * h / std::sqrt(std::max(v.upwind, v.crosswind));  // the shorter length
-        // As for beaufort: at spacing L/2 forward differences already see 12% less slope variance
-        // (the design compensates, but only while the grid resolves the correlation).
-        if (dmax > 0.5 * L)
-            fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the cox-munk "
-                                              "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); use a spacing <= "
-                                              "{:.4g} m",
-                                              dmax, L, p.windSpeed, h, std::sqrt(std::max(v.upwind, v.crosswind)),
-                                              0.5 * L));
-        // One realisation's slope variance along the wind has relative standard deviation
-        // sqrt(3 pi Lu Lc / (4 A)) (docs/waves.md); warn when it exceeds 5%.
-        const double Lu = std::sqrt(2.0) * h / std::sqrt(v.upwind), Lc = std::sqrt(2.0) * h / std::sqrt(v.crosswind);
-        const double rel = std::sqrt(3.0 * kPi * Lu * Lc / (4.0 * p.sizeX * p.sizeY));
-        if (rel > 0.05)
-            log::warnOnce("waves: a {} x {} m cox-munk surface holds few correlation lengths ({:.3g} x {:.3g} m): its "
-                          "measured slope variances scatter by about {:.0f}% about Cox-Munk's",
-                          p.sizeX, p.sizeY, Lu, Lc, 100 * rel);
-    } else if (wind) {
-        const WaveSpectrum s(spectrumParamsFor(p));
-        const double lp = 2 * kPi / s.peakWavenumber();
-        if (dmax > 0.5 * lp)
-            fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
-                                              "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
-        if (std::min(p.sizeX, p.sizeY) < lp)
-            log::warnOnce("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
-                      "not represented", std::min(p.sizeX, p.sizeY), lp);
+        checkCoxMunkResolution(p, dmax);
+    } else if (isWindDriven(p.model)) {
+        checkSpectralResolution(p, dmax);
     } else if (p.model == WaveModel::Sinusoid) {
         if (!std::isfinite(p.wavelength) || p.wavelength < 2 * dmax || p.wavelength > WaveLimits::kMaxSize)
             fail(p, Key::Wavelength, fmt::format("{} m is out of range; allowed 2 x spacing ({} m) to {} m",
                                                  p.wavelength, 2 * dmax, WaveLimits::kMaxSize));
     }
 }
+
+namespace {
+
+// The stages of generateWaveSurface.
+
+// Beaufort force and the Cox-Munk slope statistics for the wind (NaN without wind); the other
+// predictions start as unknown.
+void predictWindStatistics(const WaveParams& p, WaveSurface& out) {
+    PredictedStats& pr = out.predicted;
+    pr.mssUpwind = pr.mssCrosswind = kNaN;
+    pr.peakWavelength = kNaN;
+    if (!isWindDriven(p.model)) {
+        pr.coxMunkUpwind = pr.coxMunkCrosswind = pr.coxMunkTotal = kNaN;
+        return;
+    }
+    out.beaufort = beaufortForce(p.windSpeed);
+    pr.coxMunkSea = p.model == WaveModel::CoxMunk ? p.sea : CoxMunkSea::Clean;
+    const SlopeVariances cm = coxMunkSlopeVariances(p.windSpeed, pr.coxMunkSea);
+    pr.coxMunkUpwind = cm.upwind;
+    pr.coxMunkCrosswind = cm.crosswind;
+    // The clean sea's total is Cox and Munk's own fit to it (0.003 + 5.12e-3 U, what beaufort uses);
+    // the other fits publish components only.
+    pr.coxMunkTotal = pr.coxMunkSea == CoxMunkSea::Clean ? coxMunkCleanTotalMss(p.windSpeed) : cm.total();
+}
+
+// The synthesis of each model: fills out.field, out.description and the model's predictions, and
+// returns the power of the grid's modes for the random models.
+std::optional<ModePower> synthesizeBeaufort(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
+    PredictedStats& pr = out.predicted;
+    const BeaufortPrediction b = beaufortPrediction(p.windSpeed);
+    pr.rmsHeight = b.rmsHeight;
+    pr.rmsSlope = b.rmsSlope;
+    pr.correlationLength = b.correlationLength;
+    out.field = synthesizeGaussian(g, b.rmsHeight, b.correlationLength, p.seed);
+    std::optional<ModePower> power = gaussianModePower(g, b.rmsHeight, b.correlationLength);
+    out.description = fmt::format("beaufort/RMS Gaussian field, U12.5 = {} m/s: h = {:.4g} m, s = {:.4g}, L = {:.4g} m",
+                                  p.windSpeed, b.rmsHeight, b.rmsSlope, b.correlationLength);
+    return power;
+}
+
+std::optional<ModePower> synthesizeFromSpectrum(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
+    PredictedStats& pr = out.predicted;
+    const WaveSpectrum s(spectrumParamsFor(p));
+    out.field = synthesizeSpectral(g, s, p.windDirection, p.seed, p.time, p.depth);
+    std::optional<ModePower> power = spectralModePower(g, s, p.windDirection);
+    // Full-spectrum moments up to 1e4 rad/m (beyond the capillary range of Elfouhaily's
+    // spectrum); the PM/JONSWAP k^-3 tail makes their full mss grow without bound, so only
+    // the resolved values are reported for them.
+    const auto m = s.moments(1.0e4);
+    pr.rmsHeight = std::sqrt(m.m0);
+    if (p.model == WaveModel::Elfouhaily) {
+        pr.mssUpwind = m.mssUpwind;
+        pr.mssCrosswind = m.mssCrosswind;
+    }
+    pr.peakWavelength = 2 * kPi / s.peakWavenumber();
+    out.description = s.describe();
+    return power;
+}
+
+std::optional<ModePower> synthesizeCoxMunk(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
+    PredictedStats& pr = out.predicted;
+    const CoxMunkSurfaceDesign d = designCoxMunkSurface(g, p.windSpeed, p.sea, p.windDirection);
+    std::optional<ModePower> power =
+        anisotropicGaussianModePower(g, d.rmsHeight, d.lengthUpwind, d.lengthCrosswind, p.windDirection);
+    out.field = synthesizeFromModePower(*power, p.seed);
+    pr.rmsHeight = d.rmsHeight;
+    pr.mssUpwind = d.target.upwind;
+    pr.mssCrosswind = d.target.crosswind;
+    pr.rmsSlope = std::sqrt(0.5 * d.target.total());
+    out.description = fmt::format("cox-munk Gaussian field ({} sea), U12.5 = {} m/s: h = {:.4g} m, mss upwind {:.4g} "
+                                  "/ crosswind {:.4g}, L = {:.4g} / {:.4g} m",
+                                  nameOf(p.sea), p.windSpeed, d.rmsHeight, d.target.upwind, d.target.crosswind,
+                                  d.lengthUpwind, d.lengthCrosswind);
+    return power;
+}
+
+void synthesizeSinusoid(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
+    PredictedStats& pr = out.predicted;
+    out.field = sinusoidField(g, p.amplitude, p.wavelength, p.phase, p.windDirection, p.time, p.depth);
+    const double ak = p.amplitude * 2 * kPi / p.wavelength;
+    pr.rmsHeight = p.amplitude / std::sqrt(2.0);
+    pr.rmsSlope = ak / 2.0;  // per axis: mss along the wave (ak)^2/2, across 0
+    pr.mssUpwindResolved = 0.5 * ak * ak;
+    pr.mssCrosswindResolved = 0.0;
+    pr.correlationLength = std::acos(std::exp(-1.0)) / (2 * kPi / p.wavelength);  // along the wave
+    pr.peakWavelength = p.wavelength;
+    out.description = fmt::format("sinusoid: amplitude {} m, wavelength {} m, first trough at {} m", p.amplitude,
+                                  p.wavelength, p.phase);
+}
+
+std::optional<ModePower> synthesize(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
+    switch (p.model) {
+    case WaveModel::Beaufort: return synthesizeBeaufort(p, g, out);
+    case WaveModel::PiersonMoskowitz:
+    case WaveModel::Jonswap:
+    case WaveModel::Elfouhaily: return synthesizeFromSpectrum(p, g, out);
+    case WaveModel::CoxMunk: return synthesizeCoxMunk(p, g, out);
+    case WaveModel::Sinusoid: synthesizeSinusoid(p, g, out); break;
+    case WaveModel::Flat:
+        out.field = flatField(g);
+        out.predicted.correlationLength = kNaN;
+        out.description = "flat surface at z = 0";
+        break;
+    }
+    return std::nullopt;
+}
+
+// The statistics the grid's modes carry (`power`; without it, the model's own predictions).
+void predictResolvedStatistics(const WaveParams& p, const GridSpec& g, const std::optional<ModePower>& power,
+                               PredictedStats& pr) {
+    if (!power) {
+        pr.expectedRmsHeight = pr.rmsHeight;
+        pr.expectedRmsSlope = pr.rmsSlope;
+        pr.expectedCorrelationLength = pr.correlationLength;
+        return;
+    }
+    // Resolved mean-square slopes: Sum over the grid's modes of (k . u)^2 E|h_k|^2.
+    const double cu = std::cos(p.windDirection), su = std::sin(p.windDirection);
+    double mu = 0, mc = 0;
+    for (int n = 0; n < g.ny; ++n)
+        for (int mm = 0; mm < power->halfX(); ++mm) {
+            const double P = power->power[static_cast<size_t>(n) * power->halfX() + mm] * power->weight(mm);
+            const double kx = power->kx(mm), ky = power->ky(n);
+            mu += P * sqr(kx * cu + ky * su);
+            mc += P * sqr(-kx * su + ky * cu);
+        }
+    pr.mssUpwindResolved = mu;
+    pr.mssCrosswindResolved = mc;
+    const ExpectedStats e = expectedStatistics(*power, p.windDirection);
+    pr.expectedRmsHeight = std::sqrt(e.variance);
+    pr.expectedRmsSlope = std::sqrt(0.5 * (e.mssX + e.mssY));
+    pr.expectedCorrelationLength = e.correlationLength;
+    if (p.model != WaveModel::Beaufort) pr.correlationLength = e.correlationLength;
+    if (p.model != WaveModel::Beaufort && p.model != WaveModel::CoxMunk) pr.rmsSlope = std::sqrt(0.5 * (mu + mc));
+}
+
+// A decimated mesh has larger, smoother facets than the grid whose slopes were designed.
+void warnIfCoxMunkFacetsSmoothed(const WaveSurface& out) {
+    const PredictedStats& pr = out.predicted;
+    const double ru = out.actual.mssUpwind / pr.mssUpwind, rc = out.actual.mssCrosswind / pr.mssCrosswind;
+    if (std::abs(ru - 1.0) > 0.1 || std::abs(rc - 1.0) > 0.1)
+        log::warnOnce("waves: the {} facets of the cox-munk mesh have mean-square slopes {:.4g} upwind and {:.4g} "
+                      "crosswind, {:.0f}% and {:.0f}% of Cox-Munk's; keep the full grid (triangles 0) for glint",
+                      out.mesh.numTriangles(), out.actual.mssUpwind, out.actual.mssCrosswind, 100 * ru, 100 * rc);
+}
+
+}  // namespace
 
 WaveSurface generateWaveSurface(const WaveParams& p) {
     validateWaveParams(p);
@@ -237,115 +411,13 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
     const GridSpec g = gridSpecFor(p);
     out.spacingX = g.dx();
     out.spacingY = g.dy();
-    const bool wind = isWindDriven(p.model);
-    double statsDirection = p.windDirection;
-    PredictedStats& pr = out.predicted;
-    pr.mssUpwind = pr.mssCrosswind = kNaN;
-    pr.peakWavelength = kNaN;
-    if (wind) {
-        out.beaufort = beaufortForce(p.windSpeed);
-        pr.coxMunkSea = p.model == WaveModel::CoxMunk ? p.sea : CoxMunkSea::Clean;
-        const SlopeVariances cm = coxMunkSlopeVariances(p.windSpeed, pr.coxMunkSea);
-        pr.coxMunkUpwind = cm.upwind;
-        pr.coxMunkCrosswind = cm.crosswind;
-        // The clean sea's total is Cox and Munk's own fit to it (0.003 + 5.12e-3 U, what beaufort uses);
-        // the other fits publish components only.
-        pr.coxMunkTotal = pr.coxMunkSea == CoxMunkSea::Clean ? coxMunkCleanTotalMss(p.windSpeed) : cm.total();
-    } else {
-        pr.coxMunkUpwind = pr.coxMunkCrosswind = pr.coxMunkTotal = kNaN;
-    }
+    const double statsDirection = p.windDirection;
+    predictWindStatistics(p, out);
     Progress progress("waves", 3, "stages");
     auto t0 = std::chrono::steady_clock::now();
-    std::optional<ModePower> power;
-    switch (p.model) {
-    case WaveModel::Beaufort: {
-        const BeaufortPrediction b = beaufortPrediction(p.windSpeed);
-        pr.rmsHeight = b.rmsHeight;
-        pr.rmsSlope = b.rmsSlope;
-        pr.correlationLength = b.correlationLength;
-        out.field = synthesizeGaussian(g, b.rmsHeight, b.correlationLength, p.seed);
-        power = gaussianModePower(g, b.rmsHeight, b.correlationLength);
-        out.description = fmt::format("beaufort/RMS Gaussian field, U12.5 = {} m/s: h = {:.4g} m, s = {:.4g}, L = {:.4g} m",
-                                      p.windSpeed, b.rmsHeight, b.rmsSlope, b.correlationLength);
-        break;
-    }
-    case WaveModel::PiersonMoskowitz:
-    case WaveModel::Jonswap:
-    case WaveModel::Elfouhaily: {
-        const WaveSpectrum s(spectrumParamsFor(p));
-        out.field = synthesizeSpectral(g, s, p.windDirection, p.seed, p.time, p.depth);
-        power = spectralModePower(g, s, p.windDirection);
-        // Full-spectrum moments up to 1e4 rad/m (beyond the capillary range of Elfouhaily's
-        // spectrum); the PM/JONSWAP k^-3 tail makes their full mss grow without bound, so only
-        // the resolved values are reported for them.
-        const auto m = s.moments(1.0e4);
-        pr.rmsHeight = std::sqrt(m.m0);
-        if (p.model == WaveModel::Elfouhaily) {
-            pr.mssUpwind = m.mssUpwind;
-            pr.mssCrosswind = m.mssCrosswind;
-        }
-        pr.peakWavelength = 2 * kPi / s.peakWavenumber();
-        out.description = s.describe();
-        break;
-    }
-    case WaveModel::CoxMunk: {
-        const CoxMunkSurfaceDesign d = designCoxMunkSurface(g, p.windSpeed, p.sea, p.windDirection);
-        power = anisotropicGaussianModePower(g, d.rmsHeight, d.lengthUpwind, d.lengthCrosswind, p.windDirection);
-        out.field = synthesizeFromModePower(*power, p.seed);
-        pr.rmsHeight = d.rmsHeight;
-        pr.mssUpwind = d.target.upwind;
-        pr.mssCrosswind = d.target.crosswind;
-        pr.rmsSlope = std::sqrt(0.5 * d.target.total());
-        out.description = fmt::format("cox-munk Gaussian field ({} sea), U12.5 = {} m/s: h = {:.4g} m, mss upwind {:.4g} "
-                                      "/ crosswind {:.4g}, L = {:.4g} / {:.4g} m",
-                                      nameOf(p.sea), p.windSpeed, d.rmsHeight, d.target.upwind, d.target.crosswind,
-                                      d.lengthUpwind, d.lengthCrosswind);
-        break;
-    }
-    case WaveModel::Sinusoid: {
-        out.field = sinusoidField(g, p.amplitude, p.wavelength, p.phase, p.windDirection, p.time, p.depth);
-        const double ak = p.amplitude * 2 * kPi / p.wavelength;
-        pr.rmsHeight = p.amplitude / std::sqrt(2.0);
-        pr.rmsSlope = ak / 2.0;  // per axis: mss along the wave (ak)^2/2, across 0
-        pr.mssUpwindResolved = 0.5 * ak * ak;
-        pr.mssCrosswindResolved = 0.0;
-        pr.correlationLength = std::acos(std::exp(-1.0)) / (2 * kPi / p.wavelength);  // along the wave
-        pr.peakWavelength = p.wavelength;
-        out.description = fmt::format("sinusoid: amplitude {} m, wavelength {} m, first trough at {} m", p.amplitude,
-                                      p.wavelength, p.phase);
-        break;
-    }
-    case WaveModel::Flat:
-        out.field = flatField(g);
-        pr.correlationLength = kNaN;
-        out.description = "flat surface at z = 0";
-        break;
-    }
-    if (power) {
-        // Resolved mean-square slopes: Sum over the grid's modes of (k . u)^2 E|h_k|^2.
-        const double cu = std::cos(p.windDirection), su = std::sin(p.windDirection);
-        double mu = 0, mc = 0;
-        for (int n = 0; n < g.ny; ++n)
-            for (int mm = 0; mm < power->halfX(); ++mm) {
-                const double P = power->power[static_cast<size_t>(n) * power->halfX() + mm] * power->weight(mm);
-                const double kx = power->kx(mm), ky = power->ky(n);
-                mu += P * sqr(kx * cu + ky * su);
-                mc += P * sqr(-kx * su + ky * cu);
-            }
-        pr.mssUpwindResolved = mu;
-        pr.mssCrosswindResolved = mc;
-        const ExpectedStats e = expectedStatistics(*power, p.windDirection);
-        pr.expectedRmsHeight = std::sqrt(e.variance);
-        pr.expectedRmsSlope = std::sqrt(0.5 * (e.mssX + e.mssY));
-        pr.expectedCorrelationLength = e.correlationLength;
-        if (p.model != WaveModel::Beaufort) pr.correlationLength = e.correlationLength;
-        if (p.model != WaveModel::Beaufort && p.model != WaveModel::CoxMunk) pr.rmsSlope = std::sqrt(0.5 * (mu + mc));
-    } else {
-        pr.expectedRmsHeight = pr.rmsHeight;
-        pr.expectedRmsSlope = pr.rmsSlope;
-        pr.expectedCorrelationLength = pr.correlationLength;
-    }
-    pr.significantWaveHeight = 4.0 * pr.rmsHeight;
+    const std::optional<ModePower> power = synthesize(p, g, out);
+    predictResolvedStatistics(p, g, power, out.predicted);
+    out.predicted.significantWaveHeight = 4.0 * out.predicted.rmsHeight;
     out.seconds.synthesis = seconds(t0);
     progress.advance();
 
@@ -360,14 +432,7 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
     out.grid = measureHeightField(out.field, statsDirection);
     out.actual = measureMesh(out.mesh, out.field, statsDirection, &out.meshMaxDeviation);
     out.seconds.statistics = seconds(t0);
-    if (p.model == WaveModel::CoxMunk) {
-        // A decimated mesh has larger, smoother facets than the grid whose slopes were designed.
-        const double ru = out.actual.mssUpwind / pr.mssUpwind, rc = out.actual.mssCrosswind / pr.mssCrosswind;
-        if (std::abs(ru - 1.0) > 0.1 || std::abs(rc - 1.0) > 0.1)
-            log::warnOnce("waves: the {} facets of the cox-munk mesh have mean-square slopes {:.4g} upwind and {:.4g} "
-                          "crosswind, {:.0f}% and {:.0f}% of Cox-Munk's; keep the full grid (triangles 0) for glint",
-                          out.mesh.numTriangles(), out.actual.mssUpwind, out.actual.mssCrosswind, 100 * ru, 100 * rc);
-    }
+    if (p.model == WaveModel::CoxMunk) warnIfCoxMunkFacetsSmoothed(out);
     progress.advance();
     progress.finish();
     return out;
