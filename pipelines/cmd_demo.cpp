@@ -18,7 +18,7 @@ littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
     cmd->add_option("--seed", o->seed, "Seed of the synthetic site and the render, 0 to 2^62")
         ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         o->progress = !littoral::globalOptions().quiet;

@@ -28,7 +28,7 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
     cmd->add_option("IR_DIR", o->irDir, "Scene IR directory (scene.json + meshes)")->required();
     cmd->add_option("--out", o->outDir, "Output directory")->required();
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
-    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     cmd->add_flag("--resume", o->resume,
                   "Continue a progressive photon-mapping render after its last saved pass (DIR/progressive.checkpoint)");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);

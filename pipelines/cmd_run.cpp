@@ -16,7 +16,7 @@ littoral::CommandRegistrar reg{"run", [](CLI::App& app) {
     cmd->add_option("SCENE", o->scene, "Scene file (YAML)")->required();
     cmd->add_option("--out", o->out, "Output directory (the IR goes to OUT/ir)")->required();
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
-    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     cmd->add_flag("--resume", o->resume, "Continue a progressive photon-mapping render after its last saved pass");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {

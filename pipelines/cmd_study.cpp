@@ -33,7 +33,7 @@ littoral::CommandRegistrar reg{"study", [](CLI::App& app) {
         ->capture_default_str();
     iq->add_option("--spp", o->samplesPerPixel, "Samples per pixel")->check(CLI::Range(1, 4096))->capture_default_str();
     iq->add_option("--seed", o->seed, "Random seed")->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))->capture_default_str();
-    iq->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+    iq->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     iq->callback([o] {
         o->progress = !littoral::globalOptions().quiet;
         std::string summary;

@@ -119,6 +119,7 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
             }
             if (c.usesPhotons()) {
                 c.photonMaxBounces = r.get(s.photonMaxBounces, "photon_max_bounces", 200, 1, 100000);
+                c.photonMaxSpecularDepth = s.maxSpecularDepth.value_or(1000);
                 c.passes = r.get(s.progressivePasses, "progressive_passes", 1, 1, 100000);
                 c.alpha = r.get(s.progressiveAlpha, "progressive_alpha", 2.0 / 3.0, 0.05, 0.99);
                 // The maps of the largest band group must fit in the memory budget (the same
@@ -235,6 +236,7 @@ EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progr
             ps.surfaceTarget = config_.surfacePhotons;
             ps.volumeTarget = config_.volumePhotons;
             ps.maxBounces = config_.photonMaxBounces;
+            ps.maxSpecularDepth = config_.photonMaxSpecularDepth;
             ps.effectiveScattering = config_.effectiveScattering;
             ps.seed = scene.ir().render.seed;
             ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);

@@ -43,6 +43,9 @@ struct RenderConfig {
     uint64_t surfacePhotons = 0, volumePhotons = 0;
     double surfaceRadius = 0.4, volumeRadius = 0.4;  // m, first pass
     int photonMaxBounces = 200;
+    // Interface events per photon path: render.max_specular_depth when it is set, else 1000 (photon
+    // paths are not split, so a long specular chain costs no more than its length).
+    int photonMaxSpecularDepth = 1000;
     bool effectiveScattering = false;
     int passes = 1;             // progressive passes
     double alpha = 2.0 / 3.0;   // radius reduction per pass (Knaus & Zwicker 2011)

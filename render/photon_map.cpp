@@ -122,6 +122,83 @@ void PhotonMap::clear() {
     mask_ = 0;
 }
 
+namespace {
+
+using Ranges = std::vector<std::pair<size_t, size_t>>;
+
+// v[slot[i]] = v[i] (records of `stride` elements) for the i of every range, one task per range:
+// each task reads its range sequentially.
+template <class V> void permuteRanges(V& v, size_t stride, const Ranges& ranges, const LargeVector<uint32_t>& slot) {
+    if (v.empty()) return;
+    V out(v.size());
+    tbb::parallel_for(size_t{0}, ranges.size(), [&](size_t r) {
+        for (size_t i = ranges[r].first; i < ranges[r].second; ++i)
+            std::copy_n(v.begin() + i * stride, stride, out.begin() + size_t{slot[i]} * stride);
+    });
+    v.swap(out);
+}
+
+constexpr int kPartBits = 10;
+constexpr size_t kParts = size_t{1} << kPartBits;
+
+// Step 1 of the sort: every photon's slot in partition order (stable), from per-block counts of
+// the photons per partition (the top kPartBits bits of the bucket) scanned in (partition, block)
+// order. Returns the blocks; *partStart gets each partition's first slot (and n at the end).
+Ranges partitionSlots(const LargeVector<uint32_t>& bucket, int shift, LargeVector<uint32_t>* slot,
+                      std::vector<size_t>* partStart) {
+    const size_t n = bucket.size();
+    const size_t blockSize = std::max<size_t>(size_t{1} << 16, (n + 255) / 256);
+    const size_t blocks = (n + blockSize - 1) / blockSize;
+    Ranges ranges;
+    for (size_t k = 0; k < blocks; ++k) ranges.emplace_back(k * blockSize, std::min(n, (k + 1) * blockSize));
+    std::vector<size_t> counts(blocks * kParts, 0);  // [block][partition]
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
+        size_t* cnt = &counts[k * kParts];
+        for (size_t i = ranges[k].first; i < ranges[k].second; ++i) ++cnt[bucket[i] >> shift];
+    });
+    partStart->assign(kParts + 1, 0);
+    size_t sum = 0;
+    for (size_t p = 0; p < kParts; ++p) {
+        (*partStart)[p] = sum;
+        for (size_t k = 0; k < blocks; ++k) {
+            const size_t c = counts[k * kParts + p];
+            counts[k * kParts + p] = sum;  // becomes the block's write offset
+            sum += c;
+        }
+    }
+    (*partStart)[kParts] = sum;
+    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
+        size_t* off = &counts[k * kParts];
+        for (size_t i = ranges[k].first; i < ranges[k].second; ++i) (*slot)[i] = static_cast<uint32_t>(off[bucket[i] >> shift]++);
+    });
+    return ranges;
+}
+
+// Step 2: inside each partition (buckets in partition order), a counting sort by bucket: slot[k]
+// becomes the final position of the photon now at k, and bucketStart[b] the first photon of
+// bucket b. Returns the partitions as ranges.
+Ranges bucketSlots(const LargeVector<uint32_t>& bucket, int shift, const std::vector<size_t>& partStart,
+                   LargeVector<uint32_t>* slot, LargeVector<uint32_t>* bucketStart) {
+    const size_t perPart = size_t{1} << shift;
+    tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
+        const size_t b0 = p * perPart, s0 = partStart[p], s1 = partStart[p + 1];
+        std::vector<uint32_t> next(perPart, 0);
+        for (size_t k = s0; k < s1; ++k) ++next[bucket[k] - b0];
+        uint32_t sum = static_cast<uint32_t>(s0);
+        for (size_t j = 0; j < perPart; ++j) {
+            const uint32_t c = next[j];
+            (*bucketStart)[b0 + j] = next[j] = sum;
+            sum += c;
+        }
+        for (size_t k = s0; k < s1; ++k) (*slot)[k] = next[bucket[k] - b0]++;  // stable within the partition
+    });
+    Ranges ranges;
+    for (size_t p = 0; p < kParts; ++p) ranges.emplace_back(partStart[p], partStart[p + 1]);
+    return ranges;
+}
+
+}  // namespace
+
 void PhotonMap::build(double cellSize) {
     LITTORAL_CHECK(cellSize > 0);
     cell_ = cellSize;
@@ -140,8 +217,6 @@ void PhotonMap::build(double cellSize) {
     // field is scattered there (sequential reads, 1024 sequential write streams); (2) each
     // partition, a contiguous range small enough for the cache, is counting-sorted by bucket and
     // each field permuted inside it.
-    constexpr int kPartBits = 10;
-    constexpr size_t kParts = size_t{1} << kPartBits;
     const int shift = std::countr_zero(buckets) - kPartBits;  // buckets >= 1024
     LargeVector<uint32_t> bucket(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
@@ -150,78 +225,22 @@ void PhotonMap::build(double cellSize) {
                                                        static_cast<int64_t>(std::floor(pos_[3 * i + 1] * inv)),
                                                        static_cast<int64_t>(std::floor(pos_[3 * i + 2] * inv))));
     });
-    const size_t blockSize = std::max<size_t>(size_t{1} << 16, (n + 255) / 256);
-    const size_t blocks = (n + blockSize - 1) / blockSize;
-    std::vector<size_t> counts(blocks * kParts, 0);  // [block][partition]
-    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
-        size_t* cnt = &counts[k * kParts];
-        for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i) ++cnt[bucket[i] >> shift];
-    });
-    std::vector<size_t> partStart(kParts + 1, 0);
-    {
-        size_t sum = 0;
-        for (size_t p = 0; p < kParts; ++p) {
-            partStart[p] = sum;
-            for (size_t k = 0; k < blocks; ++k) {
-                const size_t c = counts[k * kParts + p];
-                counts[k * kParts + p] = sum;  // becomes the block's write offset
-                sum += c;
-            }
-        }
-        partStart[kParts] = sum;
-    }
-    // slot[i]: photon i's position in partition order (stable).
     LargeVector<uint32_t> slot(n);
-    tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
-        size_t* off = &counts[k * kParts];
-        for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i)
-            slot[i] = static_cast<uint32_t>(off[bucket[i] >> shift]++);
-    });
-    auto scatter = [&](auto& v, size_t stride) {  // v[slot[i]] = v[i], by blocks
-        if (v.empty()) return;
-        std::remove_reference_t<decltype(v)> out(v.size());
-        tbb::parallel_for(size_t{0}, blocks, [&](size_t k) {
-            for (size_t i = k * blockSize; i < std::min(n, (k + 1) * blockSize); ++i)
-                std::copy_n(v.begin() + i * stride, stride, out.begin() + size_t{slot[i]} * stride);
-        });
-        v.swap(out);
-    };
-    scatter(bucket, 1);
-    scatter(pos_, 3);
-    scatter(dir_, 1);
-    scatter(nrm_, 1);
-    scatter(pow_, static_cast<size_t>(bands_));
-    // Within each partition: slot[k] becomes the final position of the photon now at k.
+    std::vector<size_t> partStart;
+    const Ranges blocks = partitionSlots(bucket, shift, &slot, &partStart);
+    permuteRanges(bucket, 1, blocks, slot);
+    permuteRanges(pos_, 3, blocks, slot);
+    permuteRanges(dir_, 1, blocks, slot);
+    permuteRanges(nrm_, 1, blocks, slot);
+    permuteRanges(pow_, static_cast<size_t>(bands_), blocks, slot);
     bucketStart_.assign(buckets + 2, 0);
-    const size_t perPart = size_t{1} << shift;
-    tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
-        const size_t b0 = p * perPart, s0 = partStart[p], s1 = partStart[p + 1];
-        // bucketStart_[b] = first photon of bucket b, for this partition's buckets only.
-        std::vector<uint32_t> next(perPart, 0);
-        for (size_t k = s0; k < s1; ++k) ++next[bucket[k] - b0];
-        uint32_t sum = static_cast<uint32_t>(s0);
-        for (size_t j = 0; j < perPart; ++j) {
-            const uint32_t c = next[j];
-            bucketStart_[b0 + j] = next[j] = sum;
-            sum += c;
-        }
-        for (size_t k = s0; k < s1; ++k) slot[k] = next[bucket[k] - b0]++;  // stable within the partition
-    });
+    const Ranges parts = bucketSlots(bucket, shift, partStart, &slot, &bucketStart_);
     // Bucket b holds [bucketStart_[b], bucketStart_[b + 1]); the last bucket ends at n.
     bucketStart_[buckets] = bucketStart_[buckets + 1] = static_cast<uint32_t>(n);
-    auto permuteInPartitions = [&](auto& v, size_t stride) {  // v[slot[k]] = v[k], inside each partition
-        if (v.empty()) return;
-        std::remove_reference_t<decltype(v)> out(v.size());
-        tbb::parallel_for(size_t{0}, kParts, [&](size_t p) {
-            for (size_t k = partStart[p]; k < partStart[p + 1]; ++k)
-                std::copy_n(v.begin() + k * stride, stride, out.begin() + size_t{slot[k]} * stride);
-        });
-        v.swap(out);
-    };
-    permuteInPartitions(pos_, 3);
-    permuteInPartitions(dir_, 1);
-    permuteInPartitions(nrm_, 1);
-    permuteInPartitions(pow_, static_cast<size_t>(bands_));
+    permuteRanges(pos_, 3, parts, slot);
+    permuteRanges(dir_, 1, parts, slot);
+    permuteRanges(nrm_, 1, parts, slot);
+    permuteRanges(pow_, static_cast<size_t>(bands_), parts, slot);
 }
 
 size_t PhotonMap::memoryBytes() const { return size() * bytesPerPhoton() + bucketStart_.size() * sizeof(uint32_t); }

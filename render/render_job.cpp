@@ -129,11 +129,12 @@ ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash)
 
 }  // namespace
 
-RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
-                             const std::filesystem::path& outDir, const RenderJobOptions& opts) {
-    // Outputs first: a name that is not a file name, two sensors writing one file, or an output
-    // folder that cannot be created is found before any rendering time is spent.
-    const SourceLoc irFile{(irDir / "scene.json").string()};
+namespace {
+
+// Outputs first: a name that is not a file name, two sensors writing one file, or an output
+// folder that cannot be created is found before any rendering time is spent.
+void checkOutputs(const ir::SceneIR& ir, const SourceLoc& irFile, const std::filesystem::path& outDir,
+                  const RenderJobOptions& opts) {
     ir::validateNamesAndPaths(ir, irFile.file);
     checkOutputFolder(outDir, "--out");
     for (const ir::Sensor& s : ir.sensors)
@@ -142,62 +143,27 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     if (opts.sensor.empty() && !ir.probes.empty())
         for (const std::string& f : probeOutputFiles()) checkOutputTarget(outDir / f);
     checkRenderMemory(ir, opts.sensor, irFile);
+}
 
-    const Scene scene(ir, irDir);
+// The sensors to render: all, or the one --sensor names (with a did-you-mean if none does).
+std::vector<const ir::Sensor*> selectSensors(const ir::SceneIR& ir, const std::string& only) {
     std::vector<const ir::Sensor*> sensors;
     for (const ir::Sensor& s : ir.sensors)
-        if (opts.sensor.empty() || s.name == opts.sensor) sensors.push_back(&s);
-    if (!opts.sensor.empty() && sensors.empty()) {
+        if (only.empty() || s.name == only) sensors.push_back(&s);
+    if (!only.empty() && sensors.empty()) {
         std::vector<std::string> names;
         for (const ir::Sensor& s : ir.sensors) names.push_back(s.name);
-        const std::string close = closestMatch(opts.sensor, names);
-        throw InputError(fmt::format("--sensor: no sensor named '{}' (sensors: {}){}", opts.sensor, joinList(names),
+        const std::string close = closestMatch(only, names);
+        throw InputError(fmt::format("--sensor: no sensor named '{}' (sensors: {}){}", only, joinList(names),
                                      close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
     }
-    if (sensors.empty() && ir.probes.empty())
-        throw InputError("the scene has no sensors and no probes: nothing to render");
+    if (sensors.empty() && ir.probes.empty()) throw InputError("the scene has no sensors and no probes: nothing to render");
+    return sensors;
+}
 
-    RenderOptions ro;
-    ro.threads = opts.threads;
-    ro.progress = opts.progress;
-    RenderJobResult res;
-    const RenderConfig config = makeRenderConfig(ir);  // settings checked before any work
-    // Validate every sensor's view before spending time on radiance.
-    for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
-    const bool probesToo = opts.sensor.empty();
-
-    // Progressive passes (one unless photon maps with render.progressive.passes > 1).
-    const int passes = config.usesPhotons() ? config.passes : 1;
-    ProgressiveState state;
-    state.irHash = std::hash<std::string>{}(ir::toJsonText(ir));
-    const auto ckptDir = outDir / "progressive.checkpoint";
-    int first = 1;
-    if (opts.resume) {
-        if (passes < 2) throw InputError("--resume: this scene renders in a single pass (render.progressive.passes)");
-        state = loadCheckpoint(ckptDir, state.irHash);
-        first = state.passesDone + 1;
-        log::info("resuming after pass {} of {}", state.passesDone, passes);
-    }
-    for (int pass = first; pass <= passes; ++pass) {
-        // One estimator per band group (and its photon maps), shared by every sensor and probe.
-        const EstimatorSet estimators(scene, pass, opts.threads, opts.progress);
-        std::vector<SensorImage> images;
-        for (const ir::Sensor* s : sensors) images.push_back(renderSensor(scene, estimators, *s, ro));
-        std::vector<ProbeValue> probes;
-        if (probesToo)
-            for (size_t i = 0; i < ir.probes.size(); ++i) {
-                auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
-                probes.insert(probes.end(), v.begin(), v.end());
-            }
-        state.accumulate(images, probes);
-        if (passes > 1) {
-            log::info("progressive pass {} of {} done", pass, passes);
-            if (pass < passes) saveCheckpoint(ckptDir, state);
-        }
-        if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
-    }
-
-    // Everything computed: now write.
+// Writes every image set and the probe tables (the run's outputs, through atomic temporaries).
+void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesystem::path& outDir,
+                  const RenderJobOptions& opts, RenderJobResult& res) {
     std::vector<std::string> materialNames;
     for (const ir::Material& m : ir.materials) materialNames.push_back(m.name);
     for (const SensorImage& img : res.images) {
@@ -223,6 +189,58 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         writeTextFileAtomic(outDir / files[1], probesJson(res.probes, scene.bands()));
         for (const std::string& f : files) res.written.push_back(outDir / f);
     }
+}
+
+}  // namespace
+
+RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
+                             const std::filesystem::path& outDir, const RenderJobOptions& opts) {
+    const SourceLoc irFile{(irDir / "scene.json").string()};
+    checkOutputs(ir, irFile, outDir, opts);
+    const Scene scene(ir, irDir);
+    const std::vector<const ir::Sensor*> sensors = selectSensors(ir, opts.sensor);
+
+    RenderOptions ro;
+    // --threads wins; otherwise the scene's render.threads (0: all cores).
+    ro.threads = opts.threads > 0 ? opts.threads : ir.render.threads;
+    ro.progress = opts.progress;
+    RenderJobResult res;
+    const RenderConfig config = makeRenderConfig(ir);  // settings checked before any work
+    // Validate every sensor's view before spending time on radiance.
+    for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
+    const bool probesToo = opts.sensor.empty();
+
+    // Progressive passes (one unless photon maps with render.progressive.passes > 1).
+    const int passes = config.usesPhotons() ? config.passes : 1;
+    ProgressiveState state;
+    state.irHash = std::hash<std::string>{}(ir::toJsonText(ir));
+    const auto ckptDir = outDir / "progressive.checkpoint";
+    int first = 1;
+    if (opts.resume) {
+        if (passes < 2) throw InputError("--resume: this scene renders in a single pass (render.progressive.passes)");
+        state = loadCheckpoint(ckptDir, state.irHash);
+        first = state.passesDone + 1;
+        log::info("resuming after pass {} of {}", state.passesDone, passes);
+    }
+    for (int pass = first; pass <= passes; ++pass) {
+        // One estimator per band group (and its photon maps), shared by every sensor and probe.
+        const EstimatorSet estimators(scene, pass, ro.threads, opts.progress);
+        std::vector<SensorImage> images;
+        for (const ir::Sensor* s : sensors) images.push_back(renderSensor(scene, estimators, *s, ro));
+        std::vector<ProbeValue> probes;
+        if (probesToo)
+            for (size_t i = 0; i < ir.probes.size(); ++i) {
+                auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
+                probes.insert(probes.end(), v.begin(), v.end());
+            }
+        state.accumulate(images, probes);
+        if (passes > 1) {
+            log::info("progressive pass {} of {} done", pass, passes);
+            if (pass < passes) saveCheckpoint(ckptDir, state);
+        }
+        if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
+    }
+    writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
     return res;

@@ -1,0 +1,222 @@
+// Photon emission (render/photon_pass.h: PhotonSource, emitPhoton) through the shared chi-square
+// harness (issue 17), and the emission's normalisation: the density of emitted power must integrate
+// to the sources' flux.
+//
+// The scene: a flat Lambertian floor at z = 0 that covers the domain [0, 4] x [0, 2] m exactly
+// (photons starting near its edges reach it through the periodic-air wrap), lit by a sun at 35 deg
+// from the zenith and a uniform sky, in two bands whose sun and sky spectra differ. What the test
+// expects is derived here from the source model, never from the sampler:
+//  * landing points uniform over the floor, i.e. the domain (cells of equal area): the periodic
+//    air wraps a photon that would leave the plan view before its first hit;
+//  * sun photons travel along -w, w uniform over the disc's cone (equal-solid-angle rings);
+//  * sky photons travel along -w, w cosine-weighted over the upper hemisphere: P(theta < x) =
+//    sin^2 x;
+//  * the source is chosen with P(sun) = Phi_sun / (Phi_sun + Phi_sky), both band-averaged, with
+//    Phi_sun,b = E_sun,b cos(theta_sun) A and Phi_sky,b = pi L_sky,b A;
+//  * each photon carries power_b = Phi_source,b / (P(source) Phi_mean), so that
+//    E[power_b] Phi_mean = Phi_sun,b + Phi_sky,b: the emitted power integrates to the flux.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "core/frame.h"
+#include "core/rng.h"
+#include "core/units.h"
+#include "render/photon_pass.h"
+#include "render/scene.h"
+#include "tests/render/render_test_scenes.h"
+#include "tests/support/chi_square.h"
+
+using namespace littoral;
+using namespace littoral::render;
+using namespace littoral::render::testing;
+namespace chi2 = littoral::testing_support::chi2;
+
+namespace {
+
+// Family-wise false-alarm probability 1 % over this file's four acceptance tests (positions, sun
+// directions, sky directions, the sun fraction): Sidak's level 1 - 0.99^(1/4) = 2.5e-3 each.
+const double kAlpha = chi2::sidakLevel(0.01, 4);
+constexpr double kSunZenith = 35.0 * kPi / 180.0;
+constexpr double kHalfAngle = 0.5 * 0.53 * kPi / 180.0;
+const double kSunE[2] = {1.6, 0.9};     // W m^-2 um^-1 on a plane normal to the beam
+const double kSkyL[2] = {0.05, 0.12};   // W m^-2 sr^-1 um^-1
+
+struct Fixture {
+    ir::SceneIR ir;
+    std::unique_ptr<Scene> scene;
+    PhotonSource src;
+    BandGroup g{0, 2};
+    Fixture() {
+        ir.name = "emission";
+        ir.render.bands = {Band{0.40, 0.50}, Band{0.50, 0.60}};
+        ir.domain = {0, 4, 0, 2, false};
+        ir.sun.enabled = true;
+        ir.sun.zenith = kSunZenith;
+        ir.sun.azimuth = 0.7;
+        ir.sun.halfAngle = kHalfAngle;
+        ir.sun.irradiance = Spectrum::tabulated({0.40, 0.60}, {kSunE[0], kSunE[1]}, "sun");
+        ir.sky.radiance = Spectrum::tabulated({0.40, 0.60}, {kSkyL[0], kSkyL[1]}, "sky");
+        ir.materials.push_back(material("floor", ir::Material::Type::Lambertian, ir::Material::Solver::SurfacePM, 0.5));
+        ir.meshes.push_back(meshOf("floor", grid(0, 4, 0, 2, 0.0, 4, 2, [](int, int) { return uint16_t{0}; }), {"floor"}));
+        scene = std::make_unique<Scene>(ir, ".");
+        src = PhotonSource::of(*scene, g);
+    }
+    EmittedPhoton emit(uint64_t seed, uint64_t i) const {
+        RandomStream rng(seed, 7, i);
+        return emitPhoton(*scene, src, rng);
+    }
+};
+
+const Fixture& fixture() {
+    static const Fixture f;
+    return f;
+}
+
+}  // namespace
+
+TEST(PhotonEmission, SourceFluxesAndSunProbabilityFromTheSourceModel) {
+    const Fixture& f = fixture();
+    const double A = 8.0;
+    // The spectra are linear over [0.40, 0.60]: the band averages over [0.40, 0.50] and
+    // [0.50, 0.60] are their values at 0.45 and 0.55, (3 v0 + v1) / 4 and (v0 + 3 v1) / 4.
+    const double sunB[2] = {(3 * kSunE[0] + kSunE[1]) / 4, (kSunE[0] + 3 * kSunE[1]) / 4};
+    const double skyB[2] = {(3 * kSkyL[0] + kSkyL[1]) / 4, (kSkyL[0] + 3 * kSkyL[1]) / 4};
+    double sumSun = 0, sumSky = 0;
+    for (int b = 0; b < 2; ++b) {
+        const double phiSun = sunB[b] * std::cos(kSunZenith) * A, phiSky = kPi * skyB[b] * A;
+        EXPECT_NEAR(f.src.sunFlux[b], phiSun, 1e-12 * phiSun) << b;
+        EXPECT_NEAR(f.src.skyFlux[b], phiSky, 1e-12 * phiSky) << b;
+        sumSun += phiSun;
+        sumSky += phiSky;
+    }
+    EXPECT_NEAR(f.src.pSun, sumSun / (sumSun + sumSky), 1e-12);
+    EXPECT_NEAR(f.src.meanFlux, (sumSun + sumSky) / 2, 1e-12);
+}
+
+TEST(PhotonEmission, LandingPointsAreUniformOverTheDomain) {
+    // The sources light an infinite plane of which the domain is one period: a photon that would
+    // leave the domain's plan view before its first hit continues from the opposite side, so the
+    // points where photons land on the floor (z = 0, covering the domain) are uniform over it.
+    const Fixture& f = fixture();
+    // 8 x 4 cells of 0.5 m: each holds 1/32 of the photons. 256 000 photons: 8000 expected per cell.
+    constexpr int kN = 256000, kX = 8, kY = 4;
+    std::vector<double> observed(kX * kY + 1, 0), expected(kX * kY + 1, kN / double(kX * kY));
+    expected.back() = 0;  // a start outside the domain's plan view is impossible
+    std::vector<std::string> labels;
+    for (int k = 0; k <= kX * kY; ++k) labels.push_back(k < kX * kY ? "cell " + std::to_string(k) : "outside");
+    for (int i = 0; i < kN; ++i) {
+        const Ray r = f.emit(11, i).ray;
+        ASSERT_LT(r.d.z, 0);
+        const double t = -r.o.z / r.d.z;
+        const Point3 o = r.at(t);
+        const int cx = static_cast<int>(std::floor(o.x / 0.5)), cy = static_cast<int>(std::floor(o.y / 0.5));
+        if (cx < 0 || cx >= kX || cy < 0 || cy >= kY) observed.back() += 1;
+        else observed[cy * kX + cx] += 1;
+    }
+    const auto res = chi2::testCells(observed, expected, labels, chi2::Options{});
+    std::printf("[ info ] emission landing points: p = %.3g (dof %d)\n", res.pValue, res.dof);
+    EXPECT_FALSE(res.rejectedAt(kAlpha)) << res.summary();
+}
+
+namespace {
+// Directions of the photons emitted from one source (the travel direction reversed: toward the
+// source), as chi-square results of the sun disc and of the sky hemisphere.
+struct DirectionTests {
+    chi2::ChiSquareResult sun, sky;
+    long long sunCount = 0, total = 0;
+};
+DirectionTests directionTests(long long n, uint64_t seed, double skyWrongPower = 1.0) {
+    const Fixture& f = fixture();
+    const Vec3 toSun = f.scene->sun().direction;
+    const Frame sunFrame = Frame::fromNormal(toSun);
+    // Sun: 10 rings of equal solid angle in the cone, 12 azimuth sectors: equal probabilities.
+    constexpr int kRings = 10, kSectors = 12;
+    const double cosMax = std::cos(kHalfAngle);
+    std::vector<double> sunObs(kRings * kSectors + 1, 0), skyObs;
+    // Sky: theta bins of the cosine-weighted hemisphere, P(theta < x) = sin^2 x.
+    const std::vector<double> skyEdges = chi2::uniformEdges(0, 0.5 * kPi, 18);
+    skyObs.assign(skyEdges.size(), 0);  // bins + remainder (below the horizon: impossible)
+    DirectionTests out;
+    for (long long i = 0; i < n; ++i) {
+        const EmittedPhoton e = f.emit(seed, static_cast<uint64_t>(i));
+        const Vec3 w = -e.ray.d;
+        ++out.total;
+        if (e.fromSun) {
+            ++out.sunCount;
+            const Vec3 l = sunFrame.toLocal(w);
+            const double u = (1.0 - std::min(1.0, l.z)) / (1.0 - cosMax);  // uniform in [0, 1) inside the cone
+            const double phi = std::atan2(l.y, l.x) + kPi;
+            const int ring = static_cast<int>(u * kRings), sector = std::min(kSectors - 1, static_cast<int>(phi / (2 * kPi) * kSectors));
+            if (ring < 0 || ring >= kRings) sunObs.back() += 1;
+            else sunObs[ring * kSectors + sector] += 1;
+        } else {
+            const double th = std::acos(std::clamp(w.z, -1.0, 1.0));
+            size_t k = 0;
+            while (k + 1 < skyEdges.size() && th >= skyEdges[k + 1]) ++k;
+            if (w.z <= 0 || k + 1 >= skyEdges.size()) skyObs.back() += 1;
+            else skyObs[k] += 1;
+        }
+    }
+    std::vector<double> sunExp(sunObs.size(), static_cast<double>(out.sunCount) / (kRings * kSectors));
+    sunExp.back() = 0;
+    std::vector<double> skyExp(skyObs.size(), 0);
+    const double nSky = static_cast<double>(out.total - out.sunCount);
+    for (size_t k = 0; k + 1 < skyEdges.size(); ++k)
+        skyExp[k] = nSky * (std::pow(std::sin(skyEdges[k + 1]), 2 * skyWrongPower) -
+                            std::pow(std::sin(skyEdges[k]), 2 * skyWrongPower));
+    std::vector<std::string> sunLabels(sunObs.size(), "sun cell"), skyLabels(skyObs.size(), "sky bin");
+    out.sun = chi2::testCells(sunObs, sunExp, sunLabels, chi2::Options{});
+    out.sky = chi2::testCells(skyObs, skyExp, skyLabels, chi2::Options{});
+    return out;
+}
+}  // namespace
+
+TEST(PhotonEmission, DirectionsFollowTheSunDiscAndTheCosineWeightedSky) {
+    // 300 000 photons: pSun is 0.79 here, so ~238 000 sun photons over 120 cells (~2000 each)
+    // and ~62 000 sky photons over 18 bins.
+    const DirectionTests t = directionTests(300000, 12);
+    std::printf("[ info ] emission directions: sun p = %.3g (dof %d), sky p = %.3g (dof %d)\n", t.sun.pValue, t.sun.dof,
+                t.sky.pValue, t.sky.dof);
+    EXPECT_FALSE(t.sun.rejectedAt(kAlpha)) << t.sun.summary();
+    EXPECT_FALSE(t.sky.rejectedAt(kAlpha)) << t.sky.summary();
+    // The source choice is binomial: the two-sided level kAlpha (2.5e-3) is 3.02 standard deviations.
+    const double p = fixture().src.pSun, n = static_cast<double>(t.total);
+    const double z = (static_cast<double>(t.sunCount) - n * p) / std::sqrt(n * p * (1 - p));
+    std::printf("[ info ] emission: %lld of %lld from the sun, expected %.1f (z = %.2f)\n", t.sunCount, t.total, n * p, z);
+    EXPECT_LT(std::abs(z), 3.02);
+}
+
+TEST(PhotonEmission, RejectsAWrongSkyDistribution) {
+    // Power: the same directions judged against P(theta < x) = sin^2.2 x (a slightly more
+    // zenith-heavy sky) must be rejected at the acceptance level.
+    const DirectionTests t = directionTests(300000, 12, 1.1);
+    std::printf("[ info ] emission, wrong sky: p = %.3g\n", t.sky.pValue);
+    EXPECT_TRUE(t.sky.rejectedAt(kAlpha)) << t.sky.summary();
+}
+
+TEST(PhotonEmission, EmittedPowerIntegratesToTheSourceFlux) {
+    // E[power_b] Phi_mean = Phi_sun,b + Phi_sky,b. The per-photon power takes two values per band
+    // (one per source), so the estimate's standard error is known from the sample variance; the
+    // tolerance is 4 standard errors.
+    const Fixture& f = fixture();
+    constexpr int kN = 200000;
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};
+    for (int i = 0; i < kN; ++i) {
+        const EmittedPhoton e = f.emit(13, i);
+        for (int b = 0; b < 2; ++b) {
+            const double v = e.power[b] * f.src.meanFlux;
+            sum[b] += v;
+            sum2[b] += v * v;
+        }
+    }
+    for (int b = 0; b < 2; ++b) {
+        const double mean = sum[b] / kN, var = sum2[b] / kN - mean * mean;
+        const double se = std::sqrt(var / kN), flux = f.src.sunFlux[b] + f.src.skyFlux[b];
+        std::printf("[ info ] emission band %d: emitted %.5f +- %.5f W um^-1, source flux %.5f\n", b, mean, se, flux);
+        EXPECT_NEAR(mean, flux, 4 * se) << b;
+    }
+}
