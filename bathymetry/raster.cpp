@@ -264,6 +264,7 @@ std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::pat
 // The samples of the raster's channel `opt.channel`, row-major from the north; sets the grid's size.
 std::vector<double> readImageSamples(const std::filesystem::path& path, const RasterOptions& opt, Grid& g) {
     const std::string file = path.string();
+    noteInput(file);  // no output may replace it
     auto in = OIIO::ImageInput::open(file);
     if (!in)
         throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
@@ -363,6 +364,7 @@ Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
 }
 
 bool looksLikeAsciiGrid(const std::filesystem::path& path) {
+    noteInput(path);  // no output may replace it
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(SourceLoc{path.string()}, "cannot open file (missing or unreadable)");
     std::string head(64, '\0');

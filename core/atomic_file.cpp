@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -19,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "core/resource_limits.h"
 
 namespace littoral {
@@ -50,6 +52,7 @@ struct Registry {
     std::vector<Staged> staged;            // finished temporaries waiting for OutputSet::commit
     std::vector<std::string> published;    // targets renamed by the set being committed
     std::vector<std::string> createdDirs;  // folders the current set created, in creation order
+    std::vector<std::string> locks;        // output-folder locks held (removed on an interrupt too)
     bool setActive = false;
 };
 
@@ -65,6 +68,7 @@ void eraseValue(std::vector<std::string>& v, const std::string& s) {
 
 // Removes staged temporaries, published targets and created folders. Caller holds the mutex.
 void rollbackLocked(Registry& r) {
+    for (const auto& l : r.locks) ::unlink(l.c_str());  // first: a lock would keep its folder from being removed
     for (const auto& s : r.staged) ::unlink(s.temp.c_str());
     for (const auto& t : r.temps) ::unlink(t.c_str());
     for (const auto& p : r.published) ::unlink(p.c_str());
@@ -79,8 +83,45 @@ std::atomic<unsigned> gTempCounter{0};
 
 }  // namespace
 
+namespace {
+// The files this process has read (device and inode, with the path they were read as): no output
+// may replace one of them.
+struct InputFiles {
+    std::mutex m;
+    std::map<std::pair<dev_t, ino_t>, std::string> files;
+};
+InputFiles& inputFiles() {
+    static InputFiles f;
+    return f;
+}
+}  // namespace
+
+void noteInput(const fs::path& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
+    InputFiles& f = inputFiles();
+    std::lock_guard<std::mutex> lock(f.m);
+    f.files.emplace(std::pair{st.st_dev, st.st_ino}, path.string());
+}
+
+void clearNotedInputs() {
+    InputFiles& f = inputFiles();
+    std::lock_guard<std::mutex> lock(f.m);
+    f.files.clear();
+}
+
 void checkOutputTarget(const fs::path& target) {
     struct stat st;
+    if (::lstat(target.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+        InputFiles& f = inputFiles();
+        std::lock_guard<std::mutex> lock(f.m);
+        const auto it = f.files.find({st.st_dev, st.st_ino});
+        if (it != f.files.end())
+            throw InputError(SourceLoc{target.string()},
+                             fmt::format("refusing to write output: it would replace '{}', which this command reads "
+                                         "as an input; write the outputs to another folder (--out)",
+                                         it->second));
+    }
     if (::lstat(target.c_str(), &st) != 0) {
         if (errno == ENOENT) return;
         if (errno == ENOTDIR)
@@ -250,6 +291,61 @@ void publishLocked(Registry& r) {
 }
 }  // namespace
 
+namespace {
+// The process id in a lock file, or 0 if it holds none.
+long lockOwner(const std::string& path) {
+    std::ifstream f(path);
+    long pid = 0;
+    if (!(f >> pid) || pid <= 0) return 0;
+    return pid;
+}
+bool processRuns(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
+}  // namespace
+
+OutputFolderLock::OutputFolderLock(const fs::path& dir, std::string_view option) {
+    createOutputFolder(dir, option);
+    path_ = (dir.empty() ? fs::path(".") : dir).string() + "/" + kFileName;
+    const std::string prefix = option.empty() ? std::string() : std::string(option) + ": ";
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+        if (fd >= 0) {
+            const std::string pid = std::to_string(static_cast<long>(::getpid())) + "\n";
+            const bool ok = ::write(fd, pid.data(), pid.size()) == static_cast<ssize_t>(pid.size());
+            ::close(fd);
+            if (!ok) {
+                ::unlink(path_.c_str());
+                throw InputError(SourceLoc{dir.string()}, prefix + "cannot write the folder's lock file: " + sysError(errno));
+            }
+            Registry& r = registry();
+            std::lock_guard<std::mutex> lock(r.m);
+            r.locks.push_back(path_);
+            return;
+        }
+        if (errno != EEXIST)
+            throw InputError(SourceLoc{dir.string()}, prefix + "cannot create the folder's lock file: " + sysError(errno));
+        const long owner = lockOwner(path_);
+        if (owner == static_cast<long>(::getpid()))
+            throw InternalError(fmt::format("{}: this process already holds the lock", path_));
+        if (processRuns(owner))
+            throw InputError(SourceLoc{dir.string()},
+                             fmt::format("{}another littoral command (process {}) is writing into this folder; wait "
+                                         "for it to finish or choose another folder",
+                                         prefix, owner));
+        log::warn("{}{}: taking over the lock of process {}, which no longer runs", prefix, dir.string(),
+                  owner > 0 ? std::to_string(owner) : std::string("(unknown)"));
+        ::unlink(path_.c_str());
+    }
+    throw InputError(SourceLoc{dir.string()}, prefix + "another command took the folder's lock at the same time");
+}
+
+OutputFolderLock::~OutputFolderLock() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.m);
+    if (std::find(r.locks.begin(), r.locks.end(), path_) == r.locks.end()) return;  // removed by a rollback
+    ::unlink(path_.c_str());
+    eraseValue(r.locks, path_);
+}
+
 OutputSet::OutputSet() {
     Registry& r = registry();
     std::lock_guard<std::mutex> lock(r.m);
@@ -324,6 +420,7 @@ void requireRegularInputFile(const fs::path& path, std::string_view what) {
     if (!S_ISREG(st.st_mode))
         throw InputError(SourceLoc{path.string()},
                          fmt::format("is {}, not a regular file; a {} must be a regular file", kindOf(st.st_mode), w));
+    noteInput(path);
 }
 
 std::string readTextFile(const fs::path& path) {

@@ -22,8 +22,17 @@
 namespace littoral {
 
 // InputError (naming `target`) if something other than a regular file exists at `target`
-// (checked with lstat, so a symlink is refused even if it points at a regular file).
+// (checked with lstat, so a symlink is refused even if it points at a regular file), or if the
+// file there is one this process has read as an input (noteInput): no command writes over one of
+// its own inputs (scene files, meshes, rasters, textures, class maps, spectra, IRs).
 void checkOutputTarget(const std::filesystem::path& target);
+
+// Records `path` (if it is a regular file) as an input of this process, by device and inode, so
+// that checkOutputTarget refuses to replace it under any name. requireRegularInputFile (and so
+// readTextFile) calls it; readers that open files another way call it themselves.
+void noteInput(const std::filesystem::path& path);
+// Forgets every noted input (for tests that run several commands in one process).
+void clearNotedInputs();
 
 // Creates `dir` and its missing parents. Folders created while an OutputSet is current are
 // removed again if the set rolls back. InputError naming `dir` (prefixed with `option`, e.g.
@@ -64,6 +73,24 @@ void writeFileAtomic(const std::filesystem::path& target, std::string_view bytes
 inline void writeTextFileAtomic(const std::filesystem::path& target, const std::string& text) {
     writeFileAtomic(target, text);
 }
+
+// A command's claim on its output folder, for the command's lifetime: the file DIR/.littoral.lock
+// holds the owner's process id (created with O_EXCL). A second command into the same folder is
+// refused (InputError naming the folder and the owner) while the owner runs; a lock left by a
+// process that no longer runs (killed with SIGKILL, a crash) is taken over with a warning. The lock
+// is removed when the command ends, however it ends (also on SIGINT/SIGTERM). Creates the folder
+// (createOutputFolder) if it does not exist.
+class OutputFolderLock {
+public:
+    explicit OutputFolderLock(const std::filesystem::path& dir, std::string_view option = "--out");
+    ~OutputFolderLock();
+    OutputFolderLock(const OutputFolderLock&) = delete;
+    OutputFolderLock& operator=(const OutputFolderLock&) = delete;
+    static constexpr const char* kFileName = ".littoral.lock";
+
+private:
+    std::string path_;
+};
 
 // The outputs of one command: complete or absent (see the top of this file). Sets do not nest.
 class OutputSet {

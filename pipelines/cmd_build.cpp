@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
@@ -48,7 +49,10 @@ littoral::CommandRegistrar reg{"build", [](CLI::App& app) {
     cmd->add_option("--out", o->out, "Output directory for the IR")->required();
     cmd->add_option("--surface-triangles", o->surfaceTriangles,
                     "Override the water surface's triangle target (0 = as in the scene file)");
-    cmd->callback([o] { runBuild(*o); });
+    cmd->callback([o] {
+        const littoral::OutputFolderLock lock(o->out);  // one command per output folder
+        runBuild(*o);
+    });
 }};
 
 }  // namespace

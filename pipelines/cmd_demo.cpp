@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
 
@@ -21,6 +22,7 @@ littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
+        const littoral::OutputFolderLock lock(o->out);  // one command per output folder
         o->progress = !littoral::globalOptions().quiet;
         const auto summary = littoral::pipelines::runDemo(*o);
         std::printf("%s", summary.c_str());

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "pipelines/command_registry.h"
@@ -33,6 +34,7 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
                   "Continue a progressive photon-mapping render after its last saved pass (DIR/progressive.checkpoint)");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
+        const littoral::OutputFolderLock lock(o->outDir);  // one command per output folder
         littoral::render::RenderJobOptions jo;
         jo.resume = o->resume;
         jo.sensor = o->sensor;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "core/progress.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
@@ -20,6 +21,7 @@ littoral::CommandRegistrar reg{"run", [](CLI::App& app) {
     cmd->add_flag("--resume", o->resume, "Continue a progressive photon-mapping render after its last saved pass");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
+        const littoral::OutputFolderLock lock(o->out);  // one command per output folder
         o->progress = !littoral::globalOptions().quiet;
         const auto summary = littoral::pipelines::runScene(*o);
         std::printf("%s", summary.c_str());

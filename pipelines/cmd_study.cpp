@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_image_quality.h"
@@ -35,6 +36,7 @@ littoral::CommandRegistrar reg{"study", [](CLI::App& app) {
     iq->add_option("--seed", o->seed, "Random seed")->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))->capture_default_str();
     iq->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     iq->callback([o] {
+        const littoral::OutputFolderLock lock(o->out);  // one command per output folder
         o->progress = !littoral::globalOptions().quiet;
         std::string summary;
         littoral::pipelines::runImageQualityStudy(*o, &summary);

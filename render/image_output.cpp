@@ -114,6 +114,7 @@ struct OiioImage {
 OiioImage oiioReadFloat(const fs::path& path) {
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
     requireRegularInputFile(path, "image file");
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + OIIO::geterror());
     OiioImage img;
@@ -597,6 +598,7 @@ void writeMaterialIdTiff(const fs::path& path, const TruthImages& t) {
 
 std::vector<int32_t> readMaterialIdTiff(const fs::path& path, int* width, int* height) {
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + OIIO::geterror());
     const OIIO::ImageSpec spec = in->spec();

@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/suggest.h"
@@ -13,6 +14,7 @@
 namespace littoral::render {
 
 std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) {
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
@@ -39,6 +41,7 @@ std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) 
 }
 
 std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();

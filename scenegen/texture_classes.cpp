@@ -21,6 +21,7 @@ namespace OIIO = OIIO_NAMESPACE;
 // A grey image as floats (channel 0, or the mean of R, G, B for colour images), values in the
 // file's nominal range mapped to [0, 1] for integer formats.
 std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& where, int* w, int* h) {
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
@@ -58,6 +59,7 @@ Vec2 ClassMap::pixelCentre(int i, int j) const {
 
 ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Extent& extent) {
     const SourceLoc where{path.string()};
+    noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) throw InputError(where, "cannot read classification map: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "scenegen/mesh_io.h"
 #include "scenegen/primitives.h"
 #include "tests/support/test_support.h"
@@ -682,4 +683,85 @@ TEST_F(Hostile, CheckMeshHasNoFalseIntersectionsOrVolumes) {
     r = runLittoral("check-mesh --json " + q(dir_ / "open.obj"));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "\"volume_m3\": null")) << r.output;
+}
+
+// ---- Round 3, data loss (issue 20): no command writes over one of its own inputs -------------
+
+namespace {
+std::string fileText(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+}  // namespace
+
+TEST_F(Hostile, BuildRefusesToOverwriteItsInputs) {
+    // A scene written in JSON syntax (valid YAML) named scene.json, built into its own folder:
+    // the IR's scene.json would replace it.
+    std::string json = R"({"scene": {"name": "j", "domain": {"x": [-5, 5], "y": [-5, 5]}},
+ "sun": {"zenith_deg": 30, "irradiance": 1000}, "sky": {"radiance": 0},
+ "water": {"optics": {"preset": "coastal"}},
+ "bathymetry": {"type": "planar_slope", "z0_m": -2, "material": "floor"},
+ "materials": [{"name": "floor", "reflectance": 0.2}]}
+)";
+    const fs::path in = writeTextFile(dir_, "scene.json", json);
+    const CommandResult r = runLittoral("-q build " + q(in) + " --out " + q(dir_));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "refusing to write output: it would replace '" + in.string() + "'")) << r.output;
+    EXPECT_EQ(fileText(in), json) << "the input scene file was changed";
+    EXPECT_FALSE(fs::exists(dir_ / "meshes")) << "a partial IR was left";
+    EXPECT_FALSE(fs::exists(dir_ / "validity.json"));
+    EXPECT_FALSE(fs::exists(dir_ / littoral::OutputFolderLock::kFileName));
+}
+
+TEST_F(Hostile, RunRefusesAnOutputNamedLikeAnInputUnderAnotherPath) {
+    // The scene file is out/nadir.png's twin: a hard link to the very file `run` would write as
+    // the sensor's preview. The same file under another name is still an input.
+    fs::create_directories(out_);
+    const fs::path scene = writeTextFile(dir_, "scene.yaml", kScene);
+    fs::create_hard_link(scene, out_ / "nadir.png");
+    const CommandResult r = runLittoral("-q run " + q(scene) + " --out " + q(out_));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "it would replace '" + scene.string() + "', which this command reads")) << r.output;
+    EXPECT_EQ(fileText(scene), kScene);
+}
+
+// ---- Round 3: one command per output folder --------------------------------------------------
+
+TEST_F(Hostile, ASecondCommandIntoTheSameFolderIsRefused) {
+    // A live owner: this test process itself holds the lock.
+    fs::create_directories(out_);
+    writeTextFile(out_, littoral::OutputFolderLock::kFileName, std::to_string(::getpid()) + "\n");
+    CommandResult r = runScene("run", kScene);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "another littoral command (process " + std::to_string(::getpid()) +
+                                       ") is writing into this folder"))
+        << r.output;
+    EXPECT_EQ(listing(out_), std::set<std::string>{littoral::OutputFolderLock::kFileName}) << join(listing(out_));
+
+    // A stale lock (its process has ended) is taken over with a warning, and released at the end.
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    ASSERT_GT(child, 0);
+    waitpid(child, nullptr, 0);
+    writeTextFile(out_, littoral::OutputFolderLock::kFileName, std::to_string(child) + "\n");
+    r = runLittoral("build " + q(dir_ / "scene.yaml") + " --out " + q(out_));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "taking over the lock of process " + std::to_string(child) + ", which no longer runs"))
+        << r.output;
+    EXPECT_FALSE(fs::exists(out_ / littoral::OutputFolderLock::kFileName));
+    EXPECT_TRUE(fs::exists(out_ / "scene.json"));
+}
+
+TEST_F(Hostile, TwoConcurrentRunsNeverMixTheirOutputs) {
+    // Two `run`s started together into one folder: exactly one renders, the other is refused.
+    writeTextFile(dir_, "scene.yaml", kScene);
+    const std::string cmd = littoral::testing_support::littoralBinary().string() + " -q run " + q(dir_ / "scene.yaml") +
+                            " --out " + q(out_) + " > /dev/null 2>&1";
+    std::thread a([&] { EXPECT_GE(std::system(cmd.c_str()), 0); });
+    std::thread b([&] { EXPECT_GE(std::system(cmd.c_str()), 0); });
+    a.join();
+    b.join();
+    EXPECT_FALSE(fs::exists(out_ / littoral::OutputFolderLock::kFileName));
+    EXPECT_TRUE(fs::exists(out_ / "nadir.exr"));
+    EXPECT_TRUE(fs::exists(out_ / "ir" / "scene.json"));
 }
