@@ -104,6 +104,14 @@ void noteInput(const fs::path& path) {
     f.files.emplace(std::pair{st.st_dev, st.st_ino}, path.string());
 }
 
+void forgetInput(const fs::path& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) return;
+    InputFiles& f = inputFiles();
+    std::lock_guard<std::mutex> lock(f.m);
+    f.files.erase({st.st_dev, st.st_ino});
+}
+
 void clearNotedInputs() {
     InputFiles& f = inputFiles();
     std::lock_guard<std::mutex> lock(f.m);

@@ -31,6 +31,9 @@ void checkOutputTarget(const std::filesystem::path& target);
 // that checkOutputTarget refuses to replace it under any name. requireRegularInputFile (and so
 // readTextFile) calls it; readers that open files another way call it themselves.
 void noteInput(const std::filesystem::path& path);
+// Forgets `path` as an input: for a command's own state that it reads and then replaces (the
+// checkpoint of a resumed progressive render).
+void forgetInput(const std::filesystem::path& path);
 // Forgets every noted input (for tests that run several commands in one process).
 void clearNotedInputs();
 

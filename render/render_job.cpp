@@ -72,11 +72,22 @@ struct ProgressiveState {
     }
 };
 
-void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st) {
+// What a checkpoint of this run must hold: the sensor selection it was made with, the passes of
+// the run, and the sizes of its sums (pixels x bands per image, bands per probe value).
+struct CheckpointShape {
+    std::string sensor;  // --sensor ("" = every sensor and the probes)
+    int passes = 1;
+    std::vector<size_t> imageSizes;
+    size_t probeValues = 0, bands = 0;
+};
+
+void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st, const CheckpointShape& shape) {
     createOutputFolder(dir);
     nlohmann::json j;
     j["format"] = "littoral-progressive-checkpoint";
     j["ir_hash"] = std::to_string(st.irHash);
+    j["sensor"] = shape.sensor;
+    j["passes"] = shape.passes;
     j["passes_done"] = st.passesDone;
     j["probe_sums"] = st.probeSums;
     j["probe_squares"] = st.probeSquares;
@@ -94,30 +105,65 @@ void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st
     publishStagedOutputs();
 }
 
-ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash) {
+// InputError (an unreadable checkpoint) unless the sums read have the shape this run needs.
+void checkShape(const ProgressiveState& st, const CheckpointShape& shape) {
+    if (!(st.passesDone >= 1 && st.passesDone < shape.passes))
+        throw InputError(fmt::format("passes_done is {}; a checkpoint of this {}-pass run holds 1 to {} passes",
+                                     st.passesDone, shape.passes, shape.passes - 1));
+    if (st.imageSums.size() != shape.imageSizes.size())
+        throw InputError(fmt::format("it holds {} images, this run renders {}", st.imageSums.size(), shape.imageSizes.size()));
+    for (size_t i = 0; i < st.imageSums.size(); ++i)
+        if (st.imageSums[i].size() != shape.imageSizes[i])
+            throw InputError(fmt::format("image {} holds {} values, the sensor renders {}", i, st.imageSums[i].size(),
+                                         shape.imageSizes[i]));
+    if (st.probeSums.size() != shape.probeValues || st.probeSquares.size() != shape.probeValues)
+        throw InputError(fmt::format("it holds {} probe values, this run computes {}", st.probeSums.size(), shape.probeValues));
+    for (size_t i = 0; i < st.probeSums.size(); ++i)
+        if (st.probeSums[i].size() != shape.bands || st.probeSquares[i].size() != shape.bands)
+            throw InputError(fmt::format("probe value {} has {} bands, the scene {}", i, st.probeSums[i].size(), shape.bands));
+}
+
+ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash, const CheckpointShape& shape) {
     const auto file = dir / "state.json";
     if (!std::filesystem::exists(file))
         throw InputError(SourceLoc{file.string()}, "--resume: no progressive checkpoint here (a run saves one after "
                                                    "every pass but the last)");
     ProgressiveState st;
     try {
+        // The checkpoint is this run's own state, which it replaces after every pass: not an input
+        // that outputs must leave alone (core/atomic_file.h).
         const auto j = nlohmann::json::parse(readTextFile(file));
+        forgetInput(file);
         if (j.at("format") != "littoral-progressive-checkpoint") throw InputError("not a checkpoint");
         if (j.at("ir_hash").get<std::string>() != std::to_string(irHash))
             throw InputError(SourceLoc{file.string()}, "--resume: the checkpoint was made by a different scene (the IR "
                                                        "changed since); start the render again without --resume");
+        const std::string sensor = j.at("sensor").get<std::string>();
+        if (sensor != shape.sensor)
+            throw InputError(SourceLoc{file.string()},
+                             fmt::format("--resume: the checkpoint was made {}, this run renders {}; resume with the "
+                                         "same --sensor selection",
+                                         sensor.empty() ? "for every sensor" : "with --sensor " + sensor,
+                                         shape.sensor.empty() ? "every sensor" : "only --sensor " + shape.sensor));
         st.irHash = irHash;
         st.passesDone = j.at("passes_done").get<int>();
         st.probeSums = j.at("probe_sums").get<std::vector<std::vector<double>>>();
         st.probeSquares = j.at("probe_squares").get<std::vector<std::vector<double>>>();
         const auto sizes = j.at("image_sizes").get<std::vector<size_t>>();
+        if (sizes.size() != shape.imageSizes.size())
+            throw InputError(fmt::format("it holds {} images, this run renders {}", sizes.size(), shape.imageSizes.size()));
         for (size_t i = 0; i < sizes.size(); ++i) {
+            if (sizes[i] != shape.imageSizes[i])
+                throw InputError(fmt::format("image {} holds {} values, the sensor renders {}", i, sizes[i],
+                                             shape.imageSizes[i]));
             const std::string raw = readTextFile(dir / fmt::format("image{}.f64", i));
+            forgetInput(dir / fmt::format("image{}.f64", i));
             if (raw.size() != sizes[i] * sizeof(double)) throw InputError("image sums truncated");
             std::vector<double> v(sizes[i]);
             std::memcpy(v.data(), raw.data(), raw.size());
             st.imageSums.push_back(std::move(v));
         }
+        checkShape(st, shape);
     } catch (const InputError& e) {
         if (!e.where().file.empty()) throw;
         throw InputError(SourceLoc{file.string()}, "--resume: unreadable checkpoint: " + e.message());
@@ -216,9 +262,16 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     state.irHash = std::hash<std::string>{}(ir::toJsonText(ir));
     const auto ckptDir = outDir / "progressive.checkpoint";
     int first = 1;
+    CheckpointShape shape;
+    shape.sensor = opts.sensor;
+    shape.passes = passes;
+    shape.bands = static_cast<size_t>(scene.bandCount());
+    for (const ir::Sensor* s : sensors) shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands);
+    if (probesToo)
+        for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
     if (opts.resume) {
         if (passes < 2) throw InputError("--resume: this scene renders in a single pass (render.progressive.passes)");
-        state = loadCheckpoint(ckptDir, state.irHash);
+        state = loadCheckpoint(ckptDir, state.irHash, shape);
         first = state.passesDone + 1;
         log::info("resuming after pass {} of {}", state.passesDone, passes);
     }
@@ -236,7 +289,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         state.accumulate(images, probes);
         if (passes > 1) {
             log::info("progressive pass {} of {} done", pass, passes);
-            if (pass < passes) saveCheckpoint(ckptDir, state);
+            if (pass < passes) saveCheckpoint(ckptDir, state, shape);
         }
         if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
     }

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/scene_ir.h"
 #include "scenegen/mesh_io.h"
 #include "scenegen/primitives.h"
 #include "tests/support/test_support.h"
@@ -764,4 +765,58 @@ TEST_F(Hostile, TwoConcurrentRunsNeverMixTheirOutputs) {
     EXPECT_FALSE(fs::exists(out_ / littoral::OutputFolderLock::kFileName));
     EXPECT_TRUE(fs::exists(out_ / "nadir.exr"));
     EXPECT_TRUE(fs::exists(out_ / "ir" / "scene.json"));
+}
+
+// ---- Round 3: checkpoints are checked against the run that resumes them ----------------------
+
+TEST_F(Hostile, ResumeRefusesCheckpointsOfAnotherShape) {
+    // A progressive photon-map scene (3 passes); checkpoints are written here by hand, in the
+    // format render_job.cpp saves, with the IR's own hash, so that only the field under test is
+    // wrong in each.
+    std::string text = replaced(kScene, "materials: [{name: floor, reflectance: 0.2}]",
+                                "materials: [{name: floor, reflectance: 0.2, solver: surface-pm}]");
+    text = replaced(text, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                    "render: {probe_samples: 64, hemisphere_samples: 4, photons: {surface: 2000}, progressive: {passes: 3}}");
+    const CommandResult b = runScene("build", text);
+    ASSERT_EQ(b.status, 0) << b.output;
+    const littoral::ir::SceneIR ir = littoral::ir::readIR(out_);
+    const std::string hash = std::to_string(std::hash<std::string>{}(littoral::ir::toJsonText(ir)));
+    const fs::path render = dir_ / "render", ckpt = render / "progressive.checkpoint";
+    const size_t pixels = 16 * 12;  // the nadir sensor, one band
+    auto checkpoint = [&](const std::string& sensor, long long passesDone, size_t imageValues) {
+        fs::remove_all(render);
+        fs::create_directories(ckpt);
+        writeTextFile(ckpt, "state.json",
+                      "{\"format\": \"littoral-progressive-checkpoint\", \"ir_hash\": \"" + hash + "\", \"sensor\": \"" +
+                          sensor + "\", \"passes\": 3, \"passes_done\": " + std::to_string(passesDone) +
+                          ", \"probe_sums\": [[1.0]], \"probe_squares\": [[1.0]], \"image_sizes\": [" +
+                          std::to_string(imageValues) + "]}\n");
+        writeTextFile(ckpt, "image0.f64", std::string(imageValues * sizeof(double), '\0'));
+    };
+    auto resume = [&] { return runLittoral("-q render " + q(out_) + " --out " + q(render) + " --resume"); };
+
+    checkpoint("nadir", 1, pixels);  // made with --sensor nadir; resumed for everything (it crashed)
+    CommandResult r = resume();
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "--resume: the checkpoint was made with --sensor nadir, this run renders every "
+                                   "sensor; resume with the same --sensor selection"))
+        << r.output;
+
+    checkpoint("", -2000000000, pixels);  // an edited pass count (an internal error before)
+    r = resume();
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "state.json: error: --resume: unreadable checkpoint: passes_done is -2000000000; a "
+                                   "checkpoint of this 3-pass run holds 1 to 2 passes"))
+        << r.output;
+
+    checkpoint("", 1, pixels / 2);  // sums of another image size
+    r = resume();
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "unreadable checkpoint: image 0 holds 96 values, the sensor renders 192")) << r.output;
+
+    checkpoint("", 1, pixels);  // the right shape: the run resumes and finishes
+    r = resume();
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(render / "nadir.exr"));
+    EXPECT_FALSE(fs::exists(ckpt)) << "a finished run keeps no checkpoint";
 }
