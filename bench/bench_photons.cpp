@@ -33,9 +33,9 @@
 #include <tbb/task_arena.h>
 
 #include "core/log.h"
+#include "core/phase_functions.h"
 #include "core/progress.h"
 #include "core/rng.h"
-#include "render/phase_functions.h"
 #include "render/photon_map.h"
 #include "render/photon_pass.h"
 #include "render/scene.h"

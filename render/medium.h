@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "core/phase_functions.h"
 #include "core/ray.h"
 #include "core/rng.h"
 #include "core/scene_ir.h"
-#include "render/phase_functions.h"
 #include "render/spectral.h"
 
 namespace littoral::render {
