@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/output_names.h"
+#include "core/phase_functions.h"
 #include "core/suggest.h"
 #include "core/units.h"
 
@@ -102,11 +103,20 @@ Json spectrumJson(const Spectrum& s) {
 Json vecJson(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
 // Infinite layer bounds are written as null (JSON has no infinity).
 Json boundJson(double z) { return std::isfinite(z) ? Json(z) : Json(nullptr); }
+Json paramJson(const ParamValue& v) {
+    if (const auto* i = std::get_if<int64_t>(&v)) return Json(*i);
+    if (const auto* d = std::get_if<double>(&v)) return Json(*d);
+    return Json(std::get<bool>(v));
+}
+// A parameter is written when its kind requires it or it differs from its default.
 Json phaseJson(const PhaseFunction& p) {
-    Json j = {{"type", nm(p.type)}};
-    if (p.type == PhaseFunction::Type::HenyeyGreenstein) j["g"] = p.g;
-    if (p.type == PhaseFunction::Type::FournierForand) j["backscatter_fraction"] = p.backscatterFraction;
-    if (p.type == PhaseFunction::Type::RayleighLike && p.k != 1.0) j["k"] = p.k;
+    Json j = {{"type", p.type}};
+    const PhaseKind* kind = phaseFunctionKinds().find(p.type);
+    for (const auto& [key, value] : p.params) {
+        const ParamSpec* spec = kind ? kind->info.param(key) : nullptr;
+        if (spec && spec->defaultValue && numberOf(value) == *spec->defaultValue) continue;
+        j[key] = paramJson(value);
+    }
     return j;
 }
 
@@ -347,12 +357,51 @@ public:
         return num();
     }
     JReader get(const std::string& k) const { return (*this)[k]; }
+    // A value of a parameter of type `t`.
+    ParamValue param(ParamType t) const {
+        switch (t) {
+            case ParamType::Boolean: return boolean();
+            case ParamType::Integer: return integer();
+            case ParamType::Real: break;
+        }
+        return num();
+    }
+    // A value whose type is the JSON value's own (render settings, checked by the renderer).
+    ParamValue anyParam() const {
+        if (j_.is_boolean()) return j_.get<bool>();
+        if (j_.is_number_unsigned() && j_.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+            fail("integer out of range");
+        if (j_.is_number_integer()) return j_.get<int64_t>();
+        if (j_.is_number()) return j_.get<double>();
+        fail("expected a number or true/false");
+    }
+    const Json& json() const { return j_; }
 
 private:
     const Json& j_;
     std::string path_;
     const std::string& file_;
 };
+
+// A phase function: its kind by name and that kind's parameters (core/phase_functions.h).
+PhaseFunction readPhase(const JReader& ph) {
+    const KindRegistry<PhaseKind>& kinds = phaseFunctionKinds();
+    std::vector<std::string> keys = {"type"};
+    for (const auto& k : kinds.allParamNames()) keys.push_back(k);
+    ph.expectKeys(keys);
+    PhaseFunction p;
+    p.type = ph["type"].str();
+    const PhaseKind* kind = kinds.find(p.type);
+    if (!kind) ph["type"].fail(unknownKindMessage(kinds.family(), p.type, kinds.names()));
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (ph.has(keys[i]) && !kind->info.param(keys[i]))
+            ph[keys[i]].fail(fmt::format("only the {} {} has '{}'", kinds.kindsWithParam(keys[i]), kinds.family(), keys[i]));
+    for (const ParamSpec& spec : kind->info.params) {
+        if (!ph.has(spec.name) && spec.defaultValue) p.params.set(spec.name, spec.defaultParamValue());
+        else p.params.set(spec.name, ph[spec.name].param(spec.type));
+    }
+    return p;
+}
 
 }  // namespace
 
@@ -469,19 +518,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
                 Scatterer x;
                 x.name = c["name"].str();
                 x.scattering = c["scattering_per_m"].spectrum();
-                auto ph = c["phase"];
-                ph.expectKeys({"type", "g", "backscatter_fraction", "k"});
-                x.phase.type = ph["type"].choice<PhaseFunction::Type>();
-                if (x.phase.type == PhaseFunction::Type::HenyeyGreenstein) x.phase.g = ph["g"].num();
-                else if (ph.has("g")) ph["g"].fail("only the henyey-greenstein phase function has 'g'");
-                if (x.phase.type == PhaseFunction::Type::FournierForand)
-                    x.phase.backscatterFraction = ph["backscatter_fraction"].num();
-                else if (ph.has("backscatter_fraction"))
-                    ph["backscatter_fraction"].fail("only the fournier-forand phase function has 'backscatter_fraction'");
-                if (ph.has("k")) {
-                    if (x.phase.type != PhaseFunction::Type::RayleighLike) ph["k"].fail("only the rayleigh phase function has 'k'");
-                    x.phase.k = ph["k"].num();
-                }
+                x.phase = readPhase(c["phase"]);
                 ly.scatterers.push_back(x);
             }
             md.layers.push_back(ly);

@@ -17,6 +17,7 @@
 
 #include "core/cox_munk_fit.h"
 #include "core/error.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/names.h"
 #include "core/spectrum.h"
@@ -28,14 +29,14 @@ inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 inline constexpr int kFormatVersion = 2;
 
-// Phase function of one scattering constituent. All are normalised over the sphere.
+// Phase function of one scattering constituent: a phase-function kind by name and its parameter
+// values (core/phase_functions.h describes each kind: "isotropic", "henyey-greenstein" {g},
+// "petzold", "fournier-forand" {backscatter_fraction}, "rayleigh" {k}). All are normalised over
+// the sphere. scene.json writes a parameter when it is required or differs from its default.
 struct PhaseFunction {
-    enum class Type { Isotropic, HenyeyGreenstein, Petzold, FournierForand, RayleighLike };
-    Type type = Type::Isotropic;
-    double g = 0.0;                    // HenyeyGreenstein: asymmetry parameter (mean cosine), (-1, 1)
-    double backscatterFraction = 0.0;  // FournierForand: B = b_b / b, (0, 0.5)
-    double k = 1.0;                    // RayleighLike: p proportional to 1 + k cos^2 (1: Mobley et al.
-                                       // 1993 problem 1; 0.835: molecular water, Morel 1974)
+    std::string type = "isotropic";
+    ParamValues params;
+    bool operator==(const PhaseFunction&) const = default;
 };
 
 // One scattering constituent of a layer (pure water, particles, ...): its scattering coefficient
@@ -269,15 +270,6 @@ SceneIR fromJsonText(const std::string& text, const std::string& fileForErrors);
 }  // namespace littoral::ir
 
 namespace littoral {
-template <> struct EnumNames<ir::PhaseFunction::Type> {
-    static constexpr std::string_view what = "phase function";
-    static constexpr EnumName<ir::PhaseFunction::Type> table[] = {
-        {ir::PhaseFunction::Type::Isotropic, "isotropic"},
-        {ir::PhaseFunction::Type::HenyeyGreenstein, "henyey-greenstein"},
-        {ir::PhaseFunction::Type::Petzold, "petzold"},
-        {ir::PhaseFunction::Type::FournierForand, "fournier-forand"},
-        {ir::PhaseFunction::Type::RayleighLike, "rayleigh"}};
-};
 template <> struct EnumNames<ir::Material::Type> {
     static constexpr std::string_view what = "material type";
     static constexpr EnumName<ir::Material::Type> table[] = {{ir::Material::Type::Lambertian, "lambertian"},

@@ -120,7 +120,4 @@ private:
     bool attenuating_ = false, scattering_ = false, forwardPeaked_ = false;
 };
 
-// Builds the render phase function for an IR description (InputError naming `who` on bad values).
-PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who);
-
 }  // namespace littoral::render

@@ -8,7 +8,9 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/kinds.h"
 #include "core/output_names.h"
+#include "core/phase_functions.h"
 #include "core/solar_position.h"
 #include "core/text_checks.h"
 #include "core/units.h"
@@ -260,30 +262,36 @@ MaterialSection parseMaterial(const YamlNode& n) {
     return m;
 }
 
-ir::PhaseFunction parsePhase(const YamlNode& ph) {
-    ph.expectKeys({"type", "g", "backscatter_fraction"});
-    using T = ir::PhaseFunction::Type;
-    ir::PhaseFunction p;
-    p.type = *parseName<T>(ph["type"].asEnum(allNames<T>()));
-    if (p.type == T::HenyeyGreenstein) p.g = ph["g"].asDouble(-0.999, 0.999);
-    else if (ph.has("g")) ph["g"].fail("'g' is only used by the henyey-greenstein phase function");
-    if (p.type == T::FournierForand) p.backscatterFraction = ph["backscatter_fraction"].asDouble(1e-4, 0.4999);
-    else if (ph.has("backscatter_fraction"))
-        ph["backscatter_fraction"].fail("'backscatter_fraction' is only used by the fournier-forand phase function");
-    return p;
+// A value of a parameter as its descriptor types it, range-checked at its location.
+ParamValue parseParam(const YamlNode& v, const ParamSpec& p) {
+    switch (p.type) {
+        case ParamType::Boolean: return v.asBool();
+        case ParamType::Integer:
+            return static_cast<int64_t>(v.asInt(static_cast<long long>(p.lo), static_cast<long long>(p.hi)));
+        case ParamType::Real: break;
+    }
+    return v.asDouble(p.lo, p.hi, p.unit);
 }
 
-ir::PhaseFunction phaseToIr(const PhaseSpec& p) {
-    using T = ir::PhaseFunction::Type;
-    ir::PhaseFunction f;
-    switch (p.kind) {
-        case PhaseSpec::Kind::Isotropic: f.type = T::Isotropic; break;
-        case PhaseSpec::Kind::HenyeyGreenstein: f.type = T::HenyeyGreenstein, f.g = p.parameter; break;
-        case PhaseSpec::Kind::RayleighLike: f.type = T::RayleighLike, f.k = p.parameter; break;
-        case PhaseSpec::Kind::FournierForand: f.type = T::FournierForand, f.backscatterFraction = p.parameter; break;
-        case PhaseSpec::Kind::Petzold: f.type = T::Petzold; break;
+// A phase function {type, <its parameters>}: the kinds and their parameters are the descriptors of
+// core/phase_functions.h; every parameter of the kind gets a value (its default when not given).
+ir::PhaseFunction parsePhase(const YamlNode& ph) {
+    const KindRegistry<PhaseKind>& kinds = phaseFunctionKinds();
+    std::vector<std::string> keys = {"type"};
+    for (const auto& k : kinds.allParamNames()) keys.push_back(k);
+    ph.expectKeys(keys);
+    ir::PhaseFunction p;
+    p.type = ph["type"].asEnum(kinds.names());
+    const KindInfo& kind = kinds.find(p.type)->info;
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (ph.has(keys[i]) && !kind.param(keys[i]))
+            ph[keys[i]].fail(fmt::format("'{}' is only used by the {} {}", keys[i], kinds.kindsWithParam(keys[i]),
+                                         kinds.family()));
+    for (const ParamSpec& spec : kind.params) {
+        if (!ph.has(spec.name) && spec.defaultValue) p.params.set(spec.name, spec.defaultParamValue());
+        else p.params.set(spec.name, parseParam(ph[spec.name], spec));
     }
-    return f;
+    return p;
 }
 
 // Grid on which constituent spectra are tabulated: 5 nm steps over the render bands.
@@ -310,7 +318,7 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         o->absorption = w.absorption();
         for (const IopComponent& c : w.components)
             if (!(c.scattering.isConstant() && c.scattering.values()[0] == 0.0))
-                o->scatterers.push_back({c.name, c.scattering, phaseToIr(c.phase)});
+                o->scatterers.push_back({c.name, c.scattering, c.phase});
     } else if (auto c = n.optional("constituents")) {
         c->expectKeys({"pure_water", "chlorophyll_mg_m3", "sediment_g_m3", "cdom_440_per_m", "cdom_slope_per_nm",
                        "particle_phase"});
@@ -322,16 +330,7 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         comp.sedimentGM3 = c->getDouble("sediment_g_m3", 0, 0, 10000, "g m^-3");
         comp.cdomA440PerM = c->getDouble("cdom_440_per_m", 0, 0, 100, "m^-1");
         comp.cdomSlopePerNm = c->getDouble("cdom_slope_per_nm", 0.014, 0.001, 0.1, "nm^-1");
-        if (auto pp = c->optional("particle_phase")) {
-            const ir::PhaseFunction f = parsePhase(*pp);
-            using T = ir::PhaseFunction::Type;
-            const PhaseSpec ps = f.type == T::HenyeyGreenstein ? PhaseSpec::henyeyGreenstein(f.g)
-                               : f.type == T::FournierForand   ? PhaseSpec::fournierForand(f.backscatterFraction)
-                               : f.type == T::Petzold          ? PhaseSpec::petzold()
-                               : f.type == T::RayleighLike     ? PhaseSpec::rayleighLike(f.k)
-                                                               : PhaseSpec::isotropic();
-            comp.phytoplanktonPhase = comp.sedimentPhase = ps;
-        }
+        if (auto pp = c->optional("particle_phase")) comp.phytoplanktonPhase = comp.sedimentPhase = parsePhase(*pp);
         WaterIops w;
         try {
             w = computeIops(comp, constituentGrid(bands));
@@ -342,13 +341,13 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         o->absorption = w.absorption();
         for (const IopComponent& k : w.components)
             if (!(k.scattering.isConstant() && k.scattering.values()[0] == 0.0))
-                o->scatterers.push_back({k.name, k.scattering, phaseToIr(k.phase)});
+                o->scatterers.push_back({k.name, k.scattering, k.phase});
     } else {
         if (auto a = n.optional("absorption_per_m")) o->absorption = parseSpectrum(*a, 0, 1000, "m^-1");
         if (auto b = n.optional("scattering_per_m")) {
             const Spectrum sb = parseSpectrum(*b, 0, 1000, "m^-1");
             if (!(sb.isConstant() && sb.values()[0] == 0.0))
-                o->scatterers.push_back({"particles", sb, {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88}});
+                o->scatterers.push_back({"particles", sb, {"henyey-greenstein", {{"g", 0.88}}}});
         }
     }
     if (auto ph = n.optional("phase")) {

@@ -236,11 +236,11 @@ ir::SceneIR sampleIR() {
     w.layers[0].zBottom = -2.5;
     w.layers[0].absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
     w.layers[0].scatterers = {
-        {"pure-water", Spectrum::constant(0.002), {ir::PhaseFunction::Type::RayleighLike, 0, 0}},
-        {"particles", Spectrum::constant(0.3), {ir::PhaseFunction::Type::FournierForand, 0, 0.0183}}};
+        {"pure-water", Spectrum::constant(0.002), {"rayleigh", {{"k", 1.0}}}},
+        {"particles", Spectrum::constant(0.3), {"fournier-forand", {{"backscatter_fraction", 0.0183}}}}};
     w.layers[1].zTop = -2.5;
     w.layers[1].absorption = Spectrum::constant(0.05);
-    w.layers[1].scatterers = {{"particles", Spectrum::constant(0.1), {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88, 0}}};
+    w.layers[1].scatterers = {{"particles", Spectrum::constant(0.1), {"henyey-greenstein", {{"g", 0.88}}}}};
     s.media.push_back(w);
     ir::Material sand, iface, tex;
     sand.name = "sand";
@@ -330,7 +330,7 @@ TEST(SceneIR, RoundTripIsByteIdentical) {
     ASSERT_EQ(r.media[0].layers.size(), 2u);
     EXPECT_EQ(r.media[0].layers[0].zTop, ir::kInfinity);
     EXPECT_EQ(r.media[0].layers[1].zBottom, -ir::kInfinity);
-    EXPECT_EQ(r.media[0].layers[0].scatterers[1].phase.backscatterFraction, 0.0183);
+    EXPECT_EQ(r.media[0].layers[0].scatterers[1].phase.params.number("backscatter_fraction"), 0.0183);
 }
 
 TEST(SceneIR, LayerStackMustBeContiguous) {

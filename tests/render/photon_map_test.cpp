@@ -126,7 +126,6 @@ TEST(SurfacePM, BoundaryCompensationAtAnEdge) {
                 pred * covered);
 }
 
-using PT = ir::PhaseFunction::Type;
 
 // Mean of the film over the pixels (i, j) for which keep(i, j).
 template <class Keep> double regionMean(const Film& f, Keep keep, int* count = nullptr) {
@@ -165,7 +164,7 @@ TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
         if (!pm) top.solver.reset();
         s.materials.push_back(floor);
         s.materials.push_back(top);
-        ir::Medium w = water(0.05, 0.25, 1.34, {PT::HenyeyGreenstein, 0.85});
+        ir::Medium w = water(0.05, 0.25, 1.34, {"henyey-greenstein", {{"g", 0.85}}});
         if (pm) {
             w.solver = ir::Medium::Solver::MediumPM;
             s.render.surfacePhotons = 500000;

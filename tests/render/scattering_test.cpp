@@ -19,7 +19,6 @@ namespace {
 
 using namespace testing;
 using M = ir::Material;
-using PT = ir::PhaseFunction::Type;
 
 ir::Material white(const std::string& name, double r) {
     ir::Material m;
@@ -71,7 +70,7 @@ TEST(PathEstimator, WhiteFurnaceConservesRadiance) {
     s.render.estimator = ir::Estimator::Path;
     s.render.probeBatches = 16;
     s.materials.push_back(white("white-floor", 1.0));
-    addPeriodicSlab(s, water(0.0, 0.6, n, {PT::HenyeyGreenstein, 0.8}), 5.0, 3.0, "white-floor");
+    addPeriodicSlab(s, water(0.0, 0.6, n, {"henyey-greenstein", {{"g", 0.8}}}), 5.0, 3.0, "white-floor");
     ir::Sensor cam = ortho("above", {0.3, 0.2, 10}, {0, 0, -1}, {0, 1, 0}, 8, 8, 0.7);
     cam.samplesPerPixel = 256;
     s.sensors.push_back(cam);
@@ -203,7 +202,7 @@ TEST(PathEstimator, TwoStreamSlabOverLambertianBottom) {
     s.render.estimator = ir::Estimator::Path;
     s.render.probeBatches = 16;
     s.materials.push_back(white("bottom", r));
-    addPeriodicSlab(s, water(1 - w0, w0, 1.0, {PT::Isotropic}), 10.0, tauStar, "bottom");
+    addPeriodicSlab(s, water(1 - w0, w0, 1.0, {"isotropic", {}}), 10.0, tauStar, "bottom");
     const std::vector<double> taus = {0.25, 1.0, 1.75};
     for (size_t i = 0; i < taus.size(); ++i)
         s.probes.push_back(probeAt("t" + std::to_string(i), {0.1, 0.2, -taus[i]}, {"Ed", "Eu", "Eod", "Eou"}, 16000));
@@ -307,7 +306,7 @@ TEST(PathEstimator, InstrumentSelfShadingGordonDing) {
         s.sun.irradiance = Spectrum::constant(1.0);
         s.sky.radiance = Spectrum::constant(0.0);
         s.materials.push_back(blackMaterial("floor"));
-        addPeriodicSlab(s, water(a, b, testing_support::gordon_ding::kWaterIndex, {PT::Petzold}), 10.0, 30.0, "floor");
+        addPeriodicSlab(s, water(a, b, testing_support::gordon_ding::kWaterIndex, {"petzold", {}}), 10.0, 30.0, "floor");
         if (shaded) {
             s.materials.push_back(blackMaterial("instrument"));
             s.meshes.push_back(meshOf("instrument", cylinder(R, -0.001, 0.3, 96), {"instrument"}, "", "", true));
@@ -349,7 +348,7 @@ TEST(PathEstimator, StandardErrorsMatchTheSpreadOverSeeds) {
         s.sun.irradiance = Spectrum::constant(1.0);
         s.sky.radiance = Spectrum::constant(0.05);
         s.materials.push_back(white("sand", 0.3));
-        addPeriodicSlab(s, water(0.2, 0.5, 1.34, {PT::HenyeyGreenstein, 0.9}), 10.0, 4.0, "sand");
+        addPeriodicSlab(s, water(0.2, 0.5, 1.34, {"henyey-greenstein", {{"g", 0.9}}}), 10.0, 4.0, "sand");
         s.probes.push_back(probeAt("p", {0.3, 0.1, -2.0}, quantities, 1600));
         const Scene scene(s, ".");
         const auto v = evaluateProbe(scene, s.probes[0], 0, quiet());
