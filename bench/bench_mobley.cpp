@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
         double total = 0;
         for (double scale = 1.0 / 16; scale <= 8; scale *= 2) {
             ir::SceneIR ir = built.ir;
-            for (auto& p : ir.probes) p.samples = std::max(ir.render.probeBatches.value_or(16) * 2,
+            for (auto& p : ir.probes) p.samples = std::max(render::makeRenderConfig(ir).probeBatches * 2,
                                                            static_cast<int>(p.samples.value_or(4096) * scale));
             const auto t0 = std::chrono::steady_clock::now();
             const render::Scene sc(ir, irDir);

@@ -189,40 +189,22 @@ struct Probe {
 enum class Estimator { Dirsig, Path };
 
 // Render settings. `bands`, `seed`, `threads` and `estimator` are always defined; every other
-// setting is optional: unset means "the estimator's default", and a setting that is set but that
-// no part of the chosen estimator reads is an error naming it (renderSettingKeys() lists them).
+// setting is optional and held by its key in scene.json (e.g. "surface_photons") in `settings`:
+// unset means "the estimator's default". Each estimator declares the settings it reads, with
+// their types, defaults and ranges (render/*_estimator.cpp, registered in core/kinds.h's
+// estimatorKinds()); render::makeRenderConfig checks the values against them, and a setting that
+// is set but that no part of the chosen estimator reads is an error naming it.
 struct RenderSettings {
     std::vector<Band> bands{Band{0.4, 0.6}};
     uint64_t seed = 1;
     int threads = 0;  // 0 = all cores
     Estimator estimator = Estimator::Dirsig;
-    std::optional<int> maxBounces;            // scattering/diffuse vertices per path
-    std::optional<int> hemisphereSamples;     // dirsig: sky/background rays at the first diffuse vertex
-    std::optional<int> maxSpecularDepth;      // specular interface events per path
-    std::optional<int> probeSamples;          // sample paths per probe quantity
-    std::optional<int> probeBatches;          // independent batches for probe standard errors
-    std::optional<uint64_t> surfacePhotons;   // photon pass sizes
-    std::optional<uint64_t> volumePhotons;
-    std::optional<double> surfaceSearchRadius;  // m
-    std::optional<double> volumeSearchRadius;   // m
-    std::optional<double> marchStep;            // m, step of in-scatter estimates along rays in water
-    std::optional<int> photonMaxBounces;        // scattering/diffuse events per photon path
-    std::optional<bool> effectiveScattering;    // DIRSIG's effective scattering coefficient (0.01 sr cone)
-    std::optional<int> progressivePasses;       // photon-map passes with shrinking radii
-    std::optional<double> progressiveAlpha;     // radius reduction: r_i^2 = r_1^2 i^(alpha - 1)
-    // Where a scene file set each key (scene-file key name -> location); not serialised. Lets
-    // errors found later (e.g. "not read by this estimator") point at the scene file.
+    ParamValues settings;  // scene.json key -> value, in the order scene.json writes them
+    // Where a scene file set each key (scene-file key path under `render:`, e.g. "photons.surface",
+    // -> location); not serialised. Lets errors found later (e.g. "not read by this estimator")
+    // point at the scene file.
     std::map<std::string, SourceLoc> locations;
 };
-
-// One optional render setting: its key in scene.json, its key path in a scene file, and whether it
-// is set. The table behind renderSettingKeys() is the one list of optional settings.
-struct RenderSettingKey {
-    const char* irKey;     // e.g. "surface_photons"
-    const char* sceneKey;  // e.g. "photons.surface" (under `render:`)
-    bool (*isSet)(const RenderSettings&);
-};
-const std::vector<RenderSettingKey>& renderSettingKeys();
 
 // The plan-view domain of the scene, and whether it repeats horizontally (water.horizontal:
 // periodic): then the faces of material type Periodic on its side walls wrap rays around.

@@ -1,5 +1,6 @@
 #include "scenegen/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -401,9 +402,67 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
     }
 }
 
+// The scene-file node of a render setting at key path "a" or "a.b", if given.
+std::optional<YamlNode> settingNode(const YamlNode& render, const std::string& sceneKey) {
+    const size_t dot = sceneKey.find('.');
+    if (dot == std::string::npos) return render.optional(sceneKey);
+    const auto section = render.optional(sceneKey.substr(0, dot));
+    return section ? section->optional(sceneKey.substr(dot + 1)) : std::nullopt;
+}
+
+// The keys allowed under `render:` and under each of its sections ("photons", ...), from the
+// settings the estimators declare (core/kinds.h), in declaration order.
+struct RenderKeys {
+    std::vector<std::string> top = {"estimator", "bands", "seed", "threads"};
+    std::vector<std::pair<std::string, std::vector<std::string>>> sections;
+};
+RenderKeys renderKeys(const std::vector<const ParamSpec*>& settings) {
+    RenderKeys k;
+    auto addOnce = [](std::vector<std::string>& v, const std::string& s) {
+        if (std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
+    };
+    for (const ParamSpec* p : settings) {
+        const std::string& key = p->sceneName();
+        const size_t dot = key.find('.');
+        addOnce(k.top, key.substr(0, dot));
+        if (dot == std::string::npos) continue;
+        const std::string section = key.substr(0, dot);
+        auto it = std::find_if(k.sections.begin(), k.sections.end(), [&](const auto& s) { return s.first == section; });
+        if (it == k.sections.end()) it = k.sections.insert(k.sections.end(), {section, {}});
+        addOnce(it->second, key.substr(dot + 1));
+    }
+    return k;
+}
+
+// The optional settings: those the estimators declare, each typed and range-checked by the chosen
+// estimator's declaration (or, for a setting it does not read, the first estimator's that does:
+// makeRenderConfig then refuses it as not read). Stored in the chosen estimator's declaration order,
+// each with its location, so "not read by this estimator" points here.
+void parseRenderSettings(const YamlNode& n, const std::vector<const ParamSpec*>& settings, ir::RenderSettings* s) {
+    const KindInfo* chosen = estimatorKinds().find(nameOf(s->estimator));
+    std::vector<const ParamSpec*> order;
+    if (chosen)
+        for (const ParamSpec& p : chosen->params) order.push_back(&p);
+    for (const ParamSpec* p : settings)
+        if (!chosen || !chosen->param(p->name)) order.push_back(p);
+    for (const ParamSpec* p : order)
+        if (const auto v = settingNode(n, p->sceneName())) {
+            s->settings.set(p->name, parseParam(*v, *p));
+            s->locations[p->sceneName()] = v->loc();
+        }
+}
+
 void parseRender(const YamlNode& n, RenderSection* r) {
-    n.expectKeys({"estimator", "bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
-                  "probe_samples", "probe_batches", "photons", "search_radius_m", "march_step_m", "progressive"});
+    const std::vector<const ParamSpec*> settings = allRenderSettings();
+    const RenderKeys keys = renderKeys(settings);
+    // A program that parses scene files without linking the renderer (a fuzz target) has no
+    // estimators registered, and so no optional settings.
+    if (settings.empty())
+        for (const auto& k : n.keys())
+            if (std::find(keys.top.begin(), keys.top.end(), k) == keys.top.end())
+                n[k].fail("no estimator is registered in this program, so it reads no optional render settings "
+                          "(render::registerEstimatorKinds())");
+    n.expectKeys(keys.top);
     auto& s = r->settings;
     if (auto e = n.optional("estimator")) {
         s.estimator = *parseName<ir::Estimator>(e->asEnum(allNames<ir::Estimator>()));
@@ -426,51 +485,9 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     }
     s.seed = static_cast<uint64_t>(n.getInt("seed", 1, 0, (1LL << 62)));
     s.threads = static_cast<int>(n.getInt("threads", 0, 0, 1024));
-    // Optional settings: only the ones written are set (unset = the estimator's default), and
-    // each remembers its location so "not read by this estimator" points here.
-    auto optInt = [&](const YamlNode& node, const char* key, const std::string& sceneKey, long long lo, long long hi,
-                      auto* out) {
-        if (auto v = node.optional(key)) {
-            *out = static_cast<std::decay_t<decltype(**out)>>(v->asInt(lo, hi));
-            s.locations[sceneKey] = v->loc();
-        }
-    };
-    auto optDouble = [&](const YamlNode& node, const char* key, const std::string& sceneKey, double lo, double hi,
-                         std::optional<double>* out) {
-        if (auto v = node.optional(key)) {
-            *out = v->asDouble(lo, hi, "m");
-            s.locations[sceneKey] = v->loc();
-        }
-    };
-    optInt(n, "max_bounces", "max_bounces", 0, 100000, &s.maxBounces);
-    optInt(n, "max_specular_depth", "max_specular_depth", 0, 100000, &s.maxSpecularDepth);
-    optInt(n, "hemisphere_samples", "hemisphere_samples", 1, 1 << 20, &s.hemisphereSamples);
-    optInt(n, "probe_samples", "probe_samples", 2, 1 << 30, &s.probeSamples);
-    optInt(n, "probe_batches", "probe_batches", 2, 4096, &s.probeBatches);
-    if (auto p = n.optional("photons")) {
-        p->expectKeys({"surface", "volume", "max_bounces", "effective_scattering"});
-        optInt(*p, "surface", "photons.surface", 1, 10'000'000'000LL, &s.surfacePhotons);
-        optInt(*p, "volume", "photons.volume", 1, 10'000'000'000LL, &s.volumePhotons);
-        optInt(*p, "max_bounces", "photons.max_bounces", 1, 100000, &s.photonMaxBounces);
-        if (auto e = p->optional("effective_scattering")) {
-            s.effectiveScattering = e->asBool();
-            s.locations["photons.effective_scattering"] = e->loc();
-        }
-    }
-    if (auto pr = n.optional("progressive")) {
-        pr->expectKeys({"passes", "alpha"});
-        optInt(*pr, "passes", "progressive.passes", 1, 100000, &s.progressivePasses);
-        if (auto a = pr->optional("alpha")) {
-            s.progressiveAlpha = a->asDouble(0.05, 0.99);
-            s.locations["progressive.alpha"] = a->loc();
-        }
-    }
-    if (auto sr = n.optional("search_radius_m")) {
-        sr->expectKeys({"surface", "volume"});
-        optDouble(*sr, "surface", "search_radius_m.surface", 1e-4, 100, &s.surfaceSearchRadius);
-        optDouble(*sr, "volume", "search_radius_m.volume", 1e-4, 100, &s.volumeSearchRadius);
-    }
-    optDouble(n, "march_step_m", "march_step_m", 1e-4, 100, &s.marchStep);
+    for (const auto& [section, sub] : keys.sections)
+        if (auto node = n.optional(section)) node->expectKeys(sub);
+    parseRenderSettings(n, settings, &s);
 }
 
 template <class T>

@@ -225,8 +225,8 @@ ir::SceneIR sampleIR() {
     s.sun.irradiance = Spectrum::tabulated({0.35, 0.55, 0.75}, {1500.1, 1800.25, 1400.0 / 3.0});
     s.sky.radiance = Spectrum::constant(0.1 + 0.2);
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeSamples = 1 << 20;
-    s.render.marchStep = 0.25;
+    s.render.settings.set("probe_samples", 1 << 20);
+    s.render.settings.set("march_step_m", 0.25);
     s.domain = {-10, 10, -5, 5, true};
     // Two layers: the top one with pure water (Rayleigh-like) and particles (Fournier-Forand).
     ir::Medium w;
@@ -324,8 +324,8 @@ TEST(SceneIR, RoundTripIsByteIdentical) {
     EXPECT_EQ(r.materials[4].textureY1, 30.25);
     EXPECT_EQ(r.materials[4].classMaterials, (std::vector<std::string>{"sand", "", "grass"}));
     EXPECT_EQ(r.render.estimator, ir::Estimator::Path);
-    EXPECT_EQ(r.render.probeSamples, 1 << 20);
-    EXPECT_FALSE(r.render.maxBounces.has_value());  // unset stays unset
+    EXPECT_EQ(r.render.settings.number("probe_samples"), 1 << 20);
+    EXPECT_FALSE(r.render.settings.has("max_bounces"));  // unset stays unset
     EXPECT_TRUE(r.domain.periodic);
     ASSERT_EQ(r.media[0].layers.size(), 2u);
     EXPECT_EQ(r.media[0].layers[0].zTop, ir::kInfinity);

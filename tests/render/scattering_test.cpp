@@ -68,7 +68,7 @@ TEST(PathEstimator, WhiteFurnaceConservesRadiance) {
     const double L = 1.0 / kPi, n = 1.34;
     ir::SceneIR s = uniformSkyScene();
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeBatches = 16;
+    s.render.settings.set("probe_batches", 16);
     s.materials.push_back(white("white-floor", 1.0));
     addPeriodicSlab(s, water(0.0, 0.6, n, {"henyey-greenstein", {{"g", 0.8}}}), 5.0, 3.0, "white-floor");
     ir::Sensor cam = ortho("above", {0.3, 0.2, 10}, {0, 0, -1}, {0, 1, 0}, 8, 8, 0.7);
@@ -114,8 +114,8 @@ TEST(Media, BeerLambertPerBandThroughLayers) {
         s.name = "beer";
         s.render.estimator = est;
         s.render.bands = {Band{0.40, 0.45}, Band{0.45, 0.50}, Band{0.50, 0.55}};
-        s.render.probeSamples = 64;
-        s.render.probeBatches = 4;
+        s.render.settings.set("probe_samples", 64);
+        s.render.settings.set("probe_batches", 4);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(40);
         s.sun.azimuth = deg2rad(30);
@@ -200,7 +200,7 @@ TEST(PathEstimator, TwoStreamSlabOverLambertianBottom) {
     ir::SceneIR s = uniformSkyScene();
     s.sky.radiance = Spectrum::constant(Ln);
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeBatches = 16;
+    s.render.settings.set("probe_batches", 16);
     s.materials.push_back(white("bottom", r));
     addPeriodicSlab(s, water(1 - w0, w0, 1.0, {"isotropic", {}}), 10.0, tauStar, "bottom");
     const std::vector<double> taus = {0.25, 1.0, 1.75};
@@ -300,7 +300,7 @@ TEST(PathEstimator, InstrumentSelfShadingGordonDing) {
         ir::SceneIR s;
         s.name = "self-shading";
         s.render.estimator = ir::Estimator::Path;
-        s.render.probeBatches = 16;
+        s.render.settings.set("probe_batches", 16);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(theta0);
         s.sun.irradiance = Spectrum::constant(1.0);
@@ -342,7 +342,7 @@ TEST(PathEstimator, StandardErrorsMatchTheSpreadOverSeeds) {
         s.name = "seeds";
         s.render.estimator = ir::Estimator::Path;
         s.render.seed = 1000 + k;
-        s.render.probeBatches = 16;
+        s.render.settings.set("probe_batches", 16);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(35);
         s.sun.irradiance = Spectrum::constant(1.0);
