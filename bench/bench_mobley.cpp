@@ -45,6 +45,7 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 int main(int argc, char** argv) {
     Progress::setEnabled(false);
     log::setLevel(log::Level::Warn);
+    render::registerEstimatorKinds();  // the scene reader reads their descriptors
     const fs::path src = argc > 1 ? fs::path(argv[1]) : fs::path(LITTORAL_SOURCE_DIR_BENCH);
     const Problem problems[] = {
         {"problem1_albedo09.yaml", 1, 0.9, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
