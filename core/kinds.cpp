@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/probe_quantities.h"
 #include "core/suggest.h"
 
 namespace littoral {
@@ -151,6 +152,13 @@ KindRegistry<KindInfo>& estimatorKindsForRegistration() {
 }
 
 const KindRegistry<KindInfo>& estimatorKinds() { return estimatorKindsForRegistration(); }
+
+KindRegistry<KindInfo>& probeQuantityKindsForRegistration() {
+    static KindRegistry<KindInfo> registry("probe quantity");
+    return registry;
+}
+
+const KindRegistry<KindInfo>& probeQuantityKinds() { return probeQuantityKindsForRegistration(); }
 
 std::vector<const ParamSpec*> allRenderSettings() {
     std::vector<const ParamSpec*> v;

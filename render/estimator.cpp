@@ -10,11 +10,13 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/probe_quantities.h"
 #include "core/render_budget.h"
 #include "core/resource_limits.h"
 #include "core/suggest.h"
 #include "core/units.h"
 #include "render/photon_pass.h"
+#include "render/probes.h"
 #include "render/sampling.h"
 
 #include <unistd.h>
@@ -47,6 +49,7 @@ ParamSpec marchStepSetting() {
             "step of the in-scatter (sun and photon-map) estimates along rays in water"};
 }
 
+// The estimators' descriptors, and the probe quantities they evaluate (render/probes.cpp).
 void registerEstimatorKinds() {
     static std::once_flag once;
     std::call_once(once, [] {
@@ -55,6 +58,7 @@ void registerEstimatorKinds() {
         r.add(pathEstimatorKind());
         for (const std::string& name : allNames<ir::Estimator>())
             if (!r.find(name)) throw InternalError("estimator '" + name + "' has no descriptor");
+        registerProbeQuantityKinds(probeQuantityKindsForRegistration());
     });
 }
 

@@ -12,7 +12,9 @@
 #include "core/kinds.h"
 #include "core/output_names.h"
 #include "core/phase_functions.h"
+#include "core/probe_quantities.h"
 #include "core/solar_position.h"
+#include "core/suggest.h"
 #include "core/text_checks.h"
 #include "core/units.h"
 #include "scenegen/water_constituents.h"
@@ -219,8 +221,11 @@ ProbeSection parseProbe(const YamlNode& n) {
     p.loc = n.loc();
     p.name = n["name"].asOutputName("probe");
     p.position = parseVec3(n["position"]);
-    for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum({"Ed", "Eu", "Eod", "Eou", "Lu"}));
-    if (p.quantities.empty()) n["quantities"].fail("list at least one of Ed, Eu, Eod, Eou, Lu");
+    // The quantities the renderer describes (render/probes.cpp, registered in core/kinds.h).
+    const std::vector<std::string> allowed = probeQuantityKinds().names();
+    if (allowed.empty()) n["quantities"].fail("no probe quantity is registered in this program (render::registerEstimatorKinds())");
+    for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum(allowed));
+    if (p.quantities.empty()) n["quantities"].fail("list at least one of " + joinList(allowed));
     p.medium = n.getEnum("medium", "auto", {"auto", "air", "water"});
     if (auto sm = n.optional("samples")) p.samples = static_cast<int>(sm->asInt(2, 1 << 30));
     return p;

@@ -1,5 +1,5 @@
 // The kind descriptors against everything that reads them: for every registered kind of every
-// family (phase functions, estimators), each documented parameter is accepted by the scene-file
+// family (phase functions, estimators, probe quantities), each documented parameter is accepted by the scene-file
 // parser at its default and at both ends of its range, refused just outside with a located error
 // naming the range, round-trips through the Scene IR, and is range-checked by the renderer's
 // factory alike; unknown names get a did-you-mean; docs/scene-format.md lists exactly the
@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/kinds.h"
 #include "core/phase_functions.h"
+#include "core/probe_quantities.h"
 #include "core/scene_ir.h"
 #include "render/estimator.h"
 #include "render/estimator_settings.h"
@@ -298,7 +299,8 @@ std::vector<std::vector<std::string>> docsTable(const std::string& family) {
             while (!c.empty() && c.back() == ' ') c.pop_back();
             cells.push_back(c);
         }
-        if (cells.size() >= 4 && cells[0] != "type" && cells[0] != "key" && cells[0].rfind("---", 0) != 0)
+        if (cells.size() >= 3 && cells[0] != "type" && cells[0] != "key" && cells[0] != "quantity" &&
+            cells[0].rfind("---", 0) != 0)
             rows.push_back(cells);
     }
     return rows;
@@ -336,4 +338,27 @@ TEST(KindDescriptors, DocsListExactlyTheRegisteredParameters) {
     }
     for (const ParamSpec* p : allRenderSettings()) declared.insert(p->sceneName());
     EXPECT_EQ(keys, declared);
+
+    // Probe quantities: one row each.
+    std::vector<std::string> quantities;
+    for (const auto& row : docsTable("probe quantity")) quantities.push_back(row[0]);
+    EXPECT_EQ(quantities, probeQuantityKinds().names());
+}
+
+TEST(KindDescriptors, ProbeQuantitiesMatchTheParserAndTheRenderer) {
+    render::registerEstimatorKinds();
+    ASSERT_FALSE(probeQuantityKinds().empty());
+    for (const KindInfo& k : probeQuantityKinds().kinds()) {
+        SCOPED_TRACE(k.name);
+        EXPECT_EQ(k.family, "probe quantity");
+        EXPECT_FALSE(k.doc.empty());
+        EXPECT_TRUE(k.params.empty());
+        const auto spec = parse("scene: {name: kinds}\nprobes:\n  - {name: p, position: [0, 0, 1], quantities: [" + k.name +
+                                "]}\n");
+        const ir::SceneIR back = roundTrip(irOf(spec));
+        EXPECT_EQ(back.probes.at(0).quantities, std::vector<std::string>{k.name});
+    }
+    const std::string msg =
+        parseError("scene: {name: kinds}\nprobes:\n  - {name: p, position: [0, 0, 1], quantities: [Eud]}\n");
+    EXPECT_NE(msg.find("did you mean"), std::string::npos) << msg;
 }
