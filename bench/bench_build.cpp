@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "render/estimator_settings.h"
 #include "scenegen/assemble.h"
 #include "scenegen/synthetic_site.h"
 
@@ -25,6 +26,7 @@ fs::path siteDir() {
 }
 
 void BM_BuildSyntheticSite(benchmark::State& state) {
+    littoral::render::registerEstimatorKinds();  // the scene reader reads their descriptors
     const fs::path site = siteDir();
     const fs::path out = fs::temp_directory_path() / "littoral_bench_build_ir";
     StageSeconds sum;

@@ -45,6 +45,7 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 int main(int argc, char** argv) {
     Progress::setEnabled(false);
     log::setLevel(log::Level::Warn);
+    render::registerEstimatorKinds();  // the scene reader reads their descriptors
     const fs::path src = argc > 1 ? fs::path(argv[1]) : fs::path(LITTORAL_SOURCE_DIR_BENCH);
     const Problem problems[] = {
         {"problem1_albedo09.yaml", 1, 0.9, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
         double total = 0;
         for (double scale = 1.0 / 16; scale <= 8; scale *= 2) {
             ir::SceneIR ir = built.ir;
-            for (auto& p : ir.probes) p.samples = std::max(ir.render.probeBatches.value_or(16) * 2,
+            for (auto& p : ir.probes) p.samples = std::max(render::makeRenderConfig(ir).probeBatches * 2,
                                                            static_cast<int>(p.samples.value_or(4096) * scale));
             const auto t0 = std::chrono::steady_clock::now();
             const render::Scene sc(ir, irDir);

@@ -33,10 +33,11 @@
 #include <tbb/task_arena.h>
 
 #include "core/log.h"
+#include "core/phase_functions.h"
 #include "core/progress.h"
 #include "core/rng.h"
-#include "render/phase_functions.h"
 #include "render/photon_map.h"
+#include "render/estimator_settings.h"
 #include "render/photon_pass.h"
 #include "render/scene.h"
 #include "scenegen/assemble.h"
@@ -125,6 +126,7 @@ void throughput(bool quick, int threads) {
     const fs::path dir = fs::temp_directory_path() / "bench_photons";
     fs::create_directories(dir);
     { std::ofstream(dir / "scene.yaml") << kScene; }
+    registerEstimatorKinds();  // the scene reader reads their descriptors
     const auto built = scenegen::buildScene(dir / "scene.yaml", dir / "ir");
     const Scene scene(built.ir, dir / "ir");
     const uint64_t target = quick ? 500'000 : 4'000'000;

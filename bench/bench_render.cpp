@@ -76,7 +76,7 @@ const ir::SceneIR& benchScene() {
         ir::SceneIR s;
         s.name = "bench";
         s.render.bands = {Band{0.4, 0.6}};
-        s.render.hemisphereSamples = 32;
+        s.render.settings.set("hemisphere_samples", 32);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(30);
         s.sun.irradiance = Spectrum::constant(0.5);

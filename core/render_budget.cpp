@@ -26,8 +26,12 @@ RenderMemory estimateRenderMemory(const ir::SceneIR& s, const std::string& onlyS
         m.items.push_back(it);
     }
     for (const bool surface : {true, false}) {
-        const uint64_t n = (surface ? s.render.surfacePhotons : s.render.volumePhotons).value_or(0);
-        if (n == 0) continue;
+        // The photon counts as set (render.photons.surface / volume; makeRenderConfig checks their
+        // ranges, this estimate may run on an unchecked IR too).
+        const ParamValue* v = s.render.settings.find(surface ? "surface_photons" : "volume_photons");
+        const double count = v ? numberOf(*v) : 0.0;
+        if (!(count >= 1.0)) continue;
+        const uint64_t n = static_cast<uint64_t>(std::min(count, 1.8e19));
         const double each = photonBytesEach(surface, s.render.bands.size());
         m.items.push_back({surface ? MemoryItem::Kind::SurfacePhotons : MemoryItem::Kind::VolumePhotons, 0,
                            each * static_cast<double>(n),

@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/output_names.h"
+#include "core/phase_functions.h"
 #include "core/suggest.h"
 #include "core/units.h"
 
@@ -63,29 +64,6 @@ std::string checkLayers(const Medium& m) {
     return "";
 }
 
-const std::vector<RenderSettingKey>& renderSettingKeys() {
-    static const std::vector<RenderSettingKey> keys = {
-        {"max_bounces", "max_bounces", [](const RenderSettings& r) { return r.maxBounces.has_value(); }},
-        {"max_specular_depth", "max_specular_depth", [](const RenderSettings& r) { return r.maxSpecularDepth.has_value(); }},
-        {"hemisphere_samples", "hemisphere_samples", [](const RenderSettings& r) { return r.hemisphereSamples.has_value(); }},
-        {"probe_samples", "probe_samples", [](const RenderSettings& r) { return r.probeSamples.has_value(); }},
-        {"probe_batches", "probe_batches", [](const RenderSettings& r) { return r.probeBatches.has_value(); }},
-        {"surface_photons", "photons.surface", [](const RenderSettings& r) { return r.surfacePhotons.has_value(); }},
-        {"volume_photons", "photons.volume", [](const RenderSettings& r) { return r.volumePhotons.has_value(); }},
-        {"surface_search_radius_m", "search_radius_m.surface",
-         [](const RenderSettings& r) { return r.surfaceSearchRadius.has_value(); }},
-        {"volume_search_radius_m", "search_radius_m.volume",
-         [](const RenderSettings& r) { return r.volumeSearchRadius.has_value(); }},
-        {"march_step_m", "march_step_m", [](const RenderSettings& r) { return r.marchStep.has_value(); }},
-        {"photon_max_bounces", "photons.max_bounces", [](const RenderSettings& r) { return r.photonMaxBounces.has_value(); }},
-        {"effective_scattering", "photons.effective_scattering",
-         [](const RenderSettings& r) { return r.effectiveScattering.has_value(); }},
-        {"progressive_passes", "progressive.passes", [](const RenderSettings& r) { return r.progressivePasses.has_value(); }},
-        {"progressive_alpha", "progressive.alpha", [](const RenderSettings& r) { return r.progressiveAlpha.has_value(); }},
-    };
-    return keys;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Writing
 
@@ -102,11 +80,20 @@ Json spectrumJson(const Spectrum& s) {
 Json vecJson(const Vec3& v) { return Json::array({v.x, v.y, v.z}); }
 // Infinite layer bounds are written as null (JSON has no infinity).
 Json boundJson(double z) { return std::isfinite(z) ? Json(z) : Json(nullptr); }
+Json paramJson(const ParamValue& v) {
+    if (const auto* i = std::get_if<int64_t>(&v)) return Json(*i);
+    if (const auto* d = std::get_if<double>(&v)) return Json(*d);
+    return Json(std::get<bool>(v));
+}
+// A parameter is written when its kind requires it or it differs from its default.
 Json phaseJson(const PhaseFunction& p) {
-    Json j = {{"type", nm(p.type)}};
-    if (p.type == PhaseFunction::Type::HenyeyGreenstein) j["g"] = p.g;
-    if (p.type == PhaseFunction::Type::FournierForand) j["backscatter_fraction"] = p.backscatterFraction;
-    if (p.type == PhaseFunction::Type::RayleighLike && p.k != 1.0) j["k"] = p.k;
+    Json j = {{"type", p.type}};
+    const PhaseKind* kind = phaseFunctionKinds().find(p.type);
+    for (const auto& [key, value] : p.params) {
+        const ParamSpec* spec = kind ? kind->info.param(key) : nullptr;
+        if (spec && spec->defaultValue && numberOf(value) == *spec->defaultValue) continue;
+        j[key] = paramJson(value);
+    }
     return j;
 }
 
@@ -125,24 +112,8 @@ std::string toJsonText(const SceneIR& s) {
     Json bands = Json::array();
     for (const auto& b : r.bands) bands.push_back(Json::array({b.lo, b.hi}));
     Json rj = {{"bands_um", bands}, {"seed", r.seed}, {"threads", r.threads}, {"estimator", nm(r.estimator)}};
-    // Optional settings: written only when set (unset = the estimator's default).
-    auto opt = [&](const char* key, const auto& v) {
-        if (v) rj[key] = *v;
-    };
-    opt("max_bounces", r.maxBounces);
-    opt("max_specular_depth", r.maxSpecularDepth);
-    opt("hemisphere_samples", r.hemisphereSamples);
-    opt("probe_samples", r.probeSamples);
-    opt("probe_batches", r.probeBatches);
-    opt("surface_photons", r.surfacePhotons);
-    opt("volume_photons", r.volumePhotons);
-    opt("surface_search_radius_m", r.surfaceSearchRadius);
-    opt("volume_search_radius_m", r.volumeSearchRadius);
-    opt("march_step_m", r.marchStep);
-    opt("photon_max_bounces", r.photonMaxBounces);
-    opt("effective_scattering", r.effectiveScattering);
-    opt("progressive_passes", r.progressivePasses);
-    opt("progressive_alpha", r.progressiveAlpha);
+    // Optional settings: written only when set (unset = the estimator's default), in the order set.
+    for (const auto& [key, value] : r.settings) rj[key] = paramJson(value);
     j["render"] = rj;
     j["domain"] = {{"x_m", Json::array({s.domain.x0, s.domain.x1})},
                    {"y_m", Json::array({s.domain.y0, s.domain.y1})},
@@ -347,12 +318,51 @@ public:
         return num();
     }
     JReader get(const std::string& k) const { return (*this)[k]; }
+    // A value of a parameter of type `t`.
+    ParamValue param(ParamType t) const {
+        switch (t) {
+            case ParamType::Boolean: return boolean();
+            case ParamType::Integer: return integer();
+            case ParamType::Real: break;
+        }
+        return num();
+    }
+    // A value whose type is the JSON value's own (render settings, checked by the renderer).
+    ParamValue anyParam() const {
+        if (j_.is_boolean()) return j_.get<bool>();
+        if (j_.is_number_unsigned() && j_.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+            fail("integer out of range");
+        if (j_.is_number_integer()) return j_.get<int64_t>();
+        if (j_.is_number()) return j_.get<double>();
+        fail("expected a number or true/false");
+    }
+    const Json& json() const { return j_; }
 
 private:
     const Json& j_;
     std::string path_;
     const std::string& file_;
 };
+
+// A phase function: its kind by name and that kind's parameters (core/phase_functions.h).
+PhaseFunction readPhase(const JReader& ph) {
+    const KindRegistry<PhaseKind>& kinds = phaseFunctionKinds();
+    std::vector<std::string> keys = {"type"};
+    for (const auto& k : kinds.allParamNames()) keys.push_back(k);
+    ph.expectKeys(keys);
+    PhaseFunction p;
+    p.type = ph["type"].str();
+    const PhaseKind* kind = kinds.find(p.type);
+    if (!kind) ph["type"].fail(unknownKindMessage(kinds.family(), p.type, kinds.names()));
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (ph.has(keys[i]) && !kind->info.param(keys[i]))
+            ph[keys[i]].fail(fmt::format("only the {} {} has '{}'", kinds.kindsWithParam(keys[i]), kinds.family(), keys[i]));
+    for (const ParamSpec& spec : kind->info.params) {
+        if (!ph.has(spec.name) && spec.defaultValue) p.params.set(spec.name, spec.defaultParamValue());
+        else p.params.set(spec.name, ph[spec.name].param(spec.type));
+    }
+    return p;
+}
 
 }  // namespace
 
@@ -379,9 +389,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     }
     {
         auto rr = r["render"];
-        std::vector<std::string> keys = {"bands_um", "seed", "threads", "estimator"};
-        for (const auto& k : renderSettingKeys()) keys.push_back(k.irKey);
-        rr.expectKeys(keys);
+        if (!rr.json().is_object()) rr.fail("expected an object");
         s.render.bands.clear();
         auto bands = rr["bands_um"];
         for (size_t i = 0; i < bands.size(); ++i) {
@@ -392,33 +400,13 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         s.render.seed = rr["seed"].uinteger();
         s.render.threads = static_cast<int>(rr["threads"].integer());
         s.render.estimator = rr["estimator"].choice<Estimator>();
-        auto optInt = [&](const char* k, std::optional<int>* out) {
-            if (!rr.has(k)) return;
-            const int64_t v = rr[k].integer();
-            if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-                rr[k].fail("integer out of range");
-            *out = static_cast<int>(v);
-        };
-        auto optU64 = [&](const char* k, std::optional<uint64_t>* out) {
-            if (rr.has(k)) *out = rr[k].uinteger();
-        };
-        auto optNum = [&](const char* k, std::optional<double>* out) {
-            if (rr.has(k)) *out = rr[k].num();
-        };
-        optInt("max_bounces", &s.render.maxBounces);
-        optInt("max_specular_depth", &s.render.maxSpecularDepth);
-        optInt("hemisphere_samples", &s.render.hemisphereSamples);
-        optInt("probe_samples", &s.render.probeSamples);
-        optInt("probe_batches", &s.render.probeBatches);
-        optU64("surface_photons", &s.render.surfacePhotons);
-        optU64("volume_photons", &s.render.volumePhotons);
-        optNum("surface_search_radius_m", &s.render.surfaceSearchRadius);
-        optNum("volume_search_radius_m", &s.render.volumeSearchRadius);
-        optNum("march_step_m", &s.render.marchStep);
-        optInt("photon_max_bounces", &s.render.photonMaxBounces);
-        if (rr.has("effective_scattering")) s.render.effectiveScattering = rr["effective_scattering"].boolean();
-        optInt("progressive_passes", &s.render.progressivePasses);
-        optNum("progressive_alpha", &s.render.progressiveAlpha);
+        // The optional settings: their keys, types and ranges belong to the estimators, which
+        // check them (render::makeRenderConfig); here each keeps its JSON type and order.
+        for (auto it = rr.json().begin(); it != rr.json().end(); ++it) {
+            const std::string& k = it.key();
+            if (k == "bands_um" || k == "seed" || k == "threads" || k == "estimator") continue;
+            s.render.settings.set(k, rr[k].anyParam());
+        }
     }
     {
         auto d = r["domain"];
@@ -469,19 +457,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
                 Scatterer x;
                 x.name = c["name"].str();
                 x.scattering = c["scattering_per_m"].spectrum();
-                auto ph = c["phase"];
-                ph.expectKeys({"type", "g", "backscatter_fraction", "k"});
-                x.phase.type = ph["type"].choice<PhaseFunction::Type>();
-                if (x.phase.type == PhaseFunction::Type::HenyeyGreenstein) x.phase.g = ph["g"].num();
-                else if (ph.has("g")) ph["g"].fail("only the henyey-greenstein phase function has 'g'");
-                if (x.phase.type == PhaseFunction::Type::FournierForand)
-                    x.phase.backscatterFraction = ph["backscatter_fraction"].num();
-                else if (ph.has("backscatter_fraction"))
-                    ph["backscatter_fraction"].fail("only the fournier-forand phase function has 'backscatter_fraction'");
-                if (ph.has("k")) {
-                    if (x.phase.type != PhaseFunction::Type::RayleighLike) ph["k"].fail("only the rayleigh phase function has 'k'");
-                    x.phase.k = ph["k"].num();
-                }
+                x.phase = readPhase(c["phase"]);
                 ly.scatterers.push_back(x);
             }
             md.layers.push_back(ly);

@@ -17,6 +17,7 @@
 
 #include "core/cox_munk_fit.h"
 #include "core/error.h"
+#include "core/kinds.h"
 #include "core/mesh.h"
 #include "core/names.h"
 #include "core/spectrum.h"
@@ -28,14 +29,14 @@ inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 inline constexpr int kFormatVersion = 2;
 
-// Phase function of one scattering constituent. All are normalised over the sphere.
+// Phase function of one scattering constituent: a phase-function kind by name and its parameter
+// values (core/phase_functions.h describes each kind: "isotropic", "henyey-greenstein" {g},
+// "petzold", "fournier-forand" {backscatter_fraction}, "rayleigh" {k}). All are normalised over
+// the sphere. scene.json writes a parameter when it is required or differs from its default.
 struct PhaseFunction {
-    enum class Type { Isotropic, HenyeyGreenstein, Petzold, FournierForand, RayleighLike };
-    Type type = Type::Isotropic;
-    double g = 0.0;                    // HenyeyGreenstein: asymmetry parameter (mean cosine), (-1, 1)
-    double backscatterFraction = 0.0;  // FournierForand: B = b_b / b, (0, 0.5)
-    double k = 1.0;                    // RayleighLike: p proportional to 1 + k cos^2 (1: Mobley et al.
-                                       // 1993 problem 1; 0.835: molecular water, Morel 1974)
+    std::string type = "isotropic";
+    ParamValues params;
+    bool operator==(const PhaseFunction&) const = default;
 };
 
 // One scattering constituent of a layer (pure water, particles, ...): its scattering coefficient
@@ -188,40 +189,22 @@ struct Probe {
 enum class Estimator { Dirsig, Path };
 
 // Render settings. `bands`, `seed`, `threads` and `estimator` are always defined; every other
-// setting is optional: unset means "the estimator's default", and a setting that is set but that
-// no part of the chosen estimator reads is an error naming it (renderSettingKeys() lists them).
+// setting is optional and held by its key in scene.json (e.g. "surface_photons") in `settings`:
+// unset means "the estimator's default". Each estimator declares the settings it reads, with
+// their types, defaults and ranges (render/*_estimator.cpp, registered in core/kinds.h's
+// estimatorKinds()); render::makeRenderConfig checks the values against them, and a setting that
+// is set but that no part of the chosen estimator reads is an error naming it.
 struct RenderSettings {
     std::vector<Band> bands{Band{0.4, 0.6}};
     uint64_t seed = 1;
     int threads = 0;  // 0 = all cores
     Estimator estimator = Estimator::Dirsig;
-    std::optional<int> maxBounces;            // scattering/diffuse vertices per path
-    std::optional<int> hemisphereSamples;     // dirsig: sky/background rays at the first diffuse vertex
-    std::optional<int> maxSpecularDepth;      // specular interface events per path
-    std::optional<int> probeSamples;          // sample paths per probe quantity
-    std::optional<int> probeBatches;          // independent batches for probe standard errors
-    std::optional<uint64_t> surfacePhotons;   // photon pass sizes
-    std::optional<uint64_t> volumePhotons;
-    std::optional<double> surfaceSearchRadius;  // m
-    std::optional<double> volumeSearchRadius;   // m
-    std::optional<double> marchStep;            // m, step of in-scatter estimates along rays in water
-    std::optional<int> photonMaxBounces;        // scattering/diffuse events per photon path
-    std::optional<bool> effectiveScattering;    // DIRSIG's effective scattering coefficient (0.01 sr cone)
-    std::optional<int> progressivePasses;       // photon-map passes with shrinking radii
-    std::optional<double> progressiveAlpha;     // radius reduction: r_i^2 = r_1^2 i^(alpha - 1)
-    // Where a scene file set each key (scene-file key name -> location); not serialised. Lets
-    // errors found later (e.g. "not read by this estimator") point at the scene file.
+    ParamValues settings;  // scene.json key -> value, in the order scene.json writes them
+    // Where a scene file set each key (scene-file key path under `render:`, e.g. "photons.surface",
+    // -> location); not serialised. Lets errors found later (e.g. "not read by this estimator")
+    // point at the scene file.
     std::map<std::string, SourceLoc> locations;
 };
-
-// One optional render setting: its key in scene.json, its key path in a scene file, and whether it
-// is set. The table behind renderSettingKeys() is the one list of optional settings.
-struct RenderSettingKey {
-    const char* irKey;     // e.g. "surface_photons"
-    const char* sceneKey;  // e.g. "photons.surface" (under `render:`)
-    bool (*isSet)(const RenderSettings&);
-};
-const std::vector<RenderSettingKey>& renderSettingKeys();
 
 // The plan-view domain of the scene, and whether it repeats horizontally (water.horizontal:
 // periodic): then the faces of material type Periodic on its side walls wrap rays around.
@@ -269,15 +252,6 @@ SceneIR fromJsonText(const std::string& text, const std::string& fileForErrors);
 }  // namespace littoral::ir
 
 namespace littoral {
-template <> struct EnumNames<ir::PhaseFunction::Type> {
-    static constexpr std::string_view what = "phase function";
-    static constexpr EnumName<ir::PhaseFunction::Type> table[] = {
-        {ir::PhaseFunction::Type::Isotropic, "isotropic"},
-        {ir::PhaseFunction::Type::HenyeyGreenstein, "henyey-greenstein"},
-        {ir::PhaseFunction::Type::Petzold, "petzold"},
-        {ir::PhaseFunction::Type::FournierForand, "fournier-forand"},
-        {ir::PhaseFunction::Type::RayleighLike, "rayleigh"}};
-};
 template <> struct EnumNames<ir::Material::Type> {
     static constexpr std::string_view what = "material type";
     static constexpr EnumName<ir::Material::Type> table[] = {{ir::Material::Type::Lambertian, "lambertian"},

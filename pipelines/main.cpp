@@ -18,6 +18,7 @@
 #include "core/stats.h"
 #include "core/version.h"
 #include "pipelines/command_registry.h"
+#include "render/estimator_settings.h"
 
 namespace {
 
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
     // Before any thread exists: SIGINT / SIGTERM are handled by one thread that removes this
     // run's partial outputs and exits 130 / 143.
     installInterruptCleanup();
+    // The estimators' descriptors, which the scene-file parser reads (render/estimator_settings.h).
+    render::registerEstimatorKinds();
 
     CLI::App app{"Littoral: coastal ocean scene generation and physically based rendering"};
     app.set_version_flag("--version", std::string("littoral ") + LITTORAL_VERSION);

@@ -439,3 +439,48 @@ std::unique_ptr<Estimator> makeDirsigEstimator(const Scene& scene, const RenderC
 }
 
 }  // namespace littoral::render
+
+// ---------------------------------------------------------------------------------------------
+// The dirsig estimator's descriptor: the render settings it reads, in the order scene.json
+// writes them (makeRenderConfig reads them; the photon-map settings only when a material uses
+// solver surface-pm or the water uses solver medium-pm).
+
+namespace littoral::render {
+
+const KindInfo& dirsigEstimatorKind() {
+    static const KindInfo kind = [] {
+        using T = ParamType;
+        KindInfo k{"estimator", "dirsig",
+                   "the dissertation's per-material radiometry solvers (classic, generic, fresnel, surface-pm, "
+                   "medium-pm)",
+                   {}};
+        k.params = {
+            maxBouncesSetting(8),
+            maxSpecularDepthSetting(16),
+            {"hemisphere_samples", "", T::Integer, 64, 1, 1 << 20, "", "sky and background rays at the first diffuse vertex"},
+            probeSamplesSetting(),
+            probeBatchesSetting(),
+            {"surface_photons", "photons.surface", T::Integer, std::nullopt, 1, 1e10, "",
+             "photons in the surface map (required by solver surface-pm)"},
+            {"volume_photons", "photons.volume", T::Integer, std::nullopt, 1, 1e10, "",
+             "photons in the volume map (required by water solver medium-pm)"},
+            {"surface_search_radius_m", "search_radius_m.surface", T::Real, 0.4, 1e-4, 100, "m",
+             "surface-map search radius of the first pass"},
+            {"volume_search_radius_m", "search_radius_m.volume", T::Real, 0.4, 1e-4, 100, "m",
+             "volume-map search radius of the first pass"},
+            marchStepSetting(),
+            {"photon_max_bounces", "photons.max_bounces", T::Integer, 200, 1, 100000, "",
+             "scattering and diffuse events per photon path"},
+            {"effective_scattering", "photons.effective_scattering", T::Boolean, 0, 0, 1, "",
+             "DIRSIG's effective scattering coefficient (scattering within 0.01 sr of forward is unscattered)"},
+            {"progressive_passes", "progressive.passes", T::Integer, 1, 1, 100000, "",
+             "photon-map passes with shrinking radii"},
+            {"progressive_alpha", "progressive.alpha", T::Real, 2.0 / 3.0, 0.05, 0.99, "",
+             "radius reduction, r_i^2 = r_1^2 i^(alpha - 1) (Knaus and Zwicker 2011)"},
+        };
+        return k;
+    }();
+    return kind;
+}
+
+}  // namespace littoral::render

@@ -2,17 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <set>
+#include <type_traits>
 
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/probe_quantities.h"
 #include "core/render_budget.h"
 #include "core/resource_limits.h"
 #include "core/suggest.h"
 #include "core/units.h"
 #include "render/photon_pass.h"
+#include "render/probes.h"
 #include "render/sampling.h"
 
 #include <unistd.h>
@@ -22,44 +26,112 @@ namespace littoral::render {
 std::unique_ptr<Estimator> makeDirsigEstimator(const Scene&, const RenderConfig&, BandGroup, const PhotonMaps*, int);
 std::unique_ptr<Estimator> makePathEstimator(const Scene&, const RenderConfig&, BandGroup);
 
+// ---------------------------------------------------------------------------------------------
+// Render settings: the ones the shared logic below reads (each estimator's descriptor composes
+// them), the registration list, and makeRenderConfig.
+
+ParamSpec maxBouncesSetting(double defaultValue) {
+    return {"max_bounces", "", ParamType::Integer, defaultValue, 0, 100000, "", "scattering and diffuse vertices per path"};
+}
+ParamSpec maxSpecularDepthSetting(double defaultValue) {
+    return {"max_specular_depth", "", ParamType::Integer, defaultValue, 0, 100000, "", "specular interface events per path"};
+}
+ParamSpec probeSamplesSetting() {
+    return {"probe_samples", "", ParamType::Integer, 4096, 2, 1 << 30, "", "sample paths per probe quantity"};
+}
+ParamSpec probeBatchesSetting() {
+    return {"probe_batches", "", ParamType::Integer, 16, 2, 4096, "", "independent batches for the probes' standard errors"};
+}
+// Up to 100 m: a longer step would take one in-scatter estimate over more water than any scene
+// holds (the range scene files have always had; scene.json allowed 1e4 until both read this one).
+ParamSpec marchStepSetting() {
+    return {"march_step_m", "", ParamType::Real, 0.1, 1e-4, 100, "m",
+            "step of the in-scatter (sun and photon-map) estimates along rays in water"};
+}
+
+// The estimators' descriptors, and the probe quantities they evaluate (render/probes.cpp).
+void registerEstimatorKinds() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        KindRegistry<KindInfo>& r = estimatorKindsForRegistration();
+        r.add(dirsigEstimatorKind());
+        r.add(pathEstimatorKind());
+        for (const std::string& name : allNames<ir::Estimator>())
+            if (!r.find(name)) throw InternalError("estimator '" + name + "' has no descriptor");
+        registerProbeQuantityKinds(probeQuantityKindsForRegistration());
+    });
+}
+
 namespace {
 
-// Reads optional render settings with their defaults and ranges, remembering which were read.
+// Reads the optional render settings the chosen estimator declares, with their defaults and
+// ranges, remembering which were read.
 class SettingsReader {
 public:
-    explicit SettingsReader(const ir::RenderSettings& s) : s_(s) {}
+    SettingsReader(const ir::RenderSettings& s, const KindInfo& estimator) : s_(s), estimator_(estimator) {}
 
-    template <class T>
-    T get(const std::optional<T>& v, const char* irKey, T def, T lo, T hi, const char* unit = "") {
-        read_.insert(irKey);
-        if (!v) return def;
-        if (!(*v >= lo && *v <= hi))
-            fail(irKey, fmt::format("{} is out of range; allowed [{}, {}]{}{}", *v, lo, hi, *unit ? " " : "", unit));
-        return *v;
+    template <class T> T get(std::string_view key) {
+        const ParamSpec* spec = estimator_.param(key);
+        if (!spec) throw InternalError(fmt::format("the {} estimator reads '{}' without declaring it", estimator_.name, key));
+        read_.insert(std::string(key));
+        const ParamValue* v = s_.settings.find(key);
+        if (!v && !spec->defaultValue) throw InternalError(fmt::format("render setting '{}' has no default", key));
+        const ParamValue value = v ? *v : spec->defaultParamValue();
+        if (v) check(*spec, value);
+        if constexpr (std::is_same_v<T, bool>) return std::get<bool>(value);
+        else if constexpr (std::is_floating_point_v<T>) return numberOf(value);
+        else return static_cast<T>(std::get<int64_t>(value));
     }
+    bool isSet(std::string_view key) const { return s_.settings.has(key); }
 
-    // Every setting that is set but was not read is an error naming it.
-    void finish(std::string_view estimator, const std::string& hint) const {
-        std::vector<std::string> readable;
-        for (const auto& k : ir::renderSettingKeys())
-            if (read_.count(k.irKey)) readable.push_back(k.sceneKey);
-        for (const auto& k : ir::renderSettingKeys())
-            if (k.isSet(s_) && !read_.count(k.irKey))
-                fail(k.irKey, fmt::format("is set, but the '{}' estimator does not read it{} (it reads: {})", estimator,
+    // Every setting that is set must be one some estimator declares (else unknown, with a did you
+    // mean) and must have been read.
+    void finish(const std::string& hint) const {
+        const std::vector<const ParamSpec*> all = allRenderSettings();
+        std::vector<std::string> names, readable;
+        for (const ParamSpec* p : all) names.push_back(p->name);
+        for (const auto& [key, value] : s_.settings)
+            if (std::find(names.begin(), names.end(), key) == names.end()) {
+                std::string m = fmt::format("unknown setting (allowed: {})", joinList(names));
+                const std::string near = closestMatch(key, names);
+                if (!near.empty()) m += fmt::format("; did you mean '{}'?", near);
+                fail(key, m);
+            }
+        for (const ParamSpec* p : all)
+            if (read_.count(p->name)) readable.push_back(p->sceneName());
+        for (const ParamSpec* p : all)
+            if (s_.settings.has(p->name) && !read_.count(p->name))
+                fail(p->name, fmt::format("is set, but the '{}' estimator does not read it{} (it reads: {})", estimator_.name,
                                           hint.empty() ? "" : "; " + hint, joinList(readable)));
     }
 
-    [[noreturn]] void fail(const char* irKey, const std::string& msg) const {
-        for (const auto& k : ir::renderSettingKeys()) {
-            if (std::string_view(k.irKey) != irKey) continue;
-            const auto it = s_.locations.find(k.sceneKey);
-            if (it != s_.locations.end()) throw InputError(it->second, fmt::format("render.{}: {}", k.sceneKey, msg));
+    // InputError at the scene-file location of the setting when known, else naming scene.json's key.
+    [[noreturn]] void fail(std::string_view irKey, const std::string& msg) const {
+        for (const ParamSpec* p : allRenderSettings()) {
+            if (p->name != irKey) continue;
+            const auto it = s_.locations.find(p->sceneName());
+            if (it != s_.locations.end()) throw InputError(it->second, fmt::format("render.{}: {}", p->sceneName(), msg));
         }
         throw InputError(fmt::format("render.{}: {}", irKey, msg));
     }
 
 private:
+    void check(const ParamSpec& spec, const ParamValue& v) const {
+        const bool typeOk = spec.type == ParamType::Boolean  ? std::holds_alternative<bool>(v)
+                            : spec.type == ParamType::Integer ? std::holds_alternative<int64_t>(v)
+                                                              : !std::holds_alternative<bool>(v);
+        if (!typeOk)
+            fail(spec.name, fmt::format("expected {}, found {}",
+                                        spec.type == ParamType::Boolean   ? "true or false"
+                                        : spec.type == ParamType::Integer ? "an integer"
+                                                                          : "a number",
+                                        formatValue(v)));
+        if (!spec.inRange(numberOf(v)))
+            fail(spec.name, fmt::format("{} is out of range; allowed {}", formatValue(v), spec.rangeText()));
+    }
+
     const ir::RenderSettings& s_;
+    const KindInfo& estimator_;
     std::set<std::string> read_;
 };
 
@@ -73,120 +145,127 @@ private:
     throw InputError(fmt::format("media[{}] '{}': {}", i, m.name, msg));
 }
 
+// The progressive passes, and the maps of the largest band group against the memory budget (the
+// same estimate check-scene uses, core/render_budget.h).
+void readPhotonPasses(const ir::RenderSettings& s, SettingsReader& r, RenderConfig* c) {
+    c->photonMaxBounces = r.get<int>("photon_max_bounces");
+    // Photon paths: render.max_specular_depth when it is set (the estimator read it already), else 1000.
+    c->photonMaxSpecularDepth = r.isSet("max_specular_depth") ? c->maxSpecularDepth : 1000;
+    c->passes = r.get<int>("progressive_passes");
+    c->alpha = r.get<double>("progressive_alpha");
+    static_assert(kMaxGroupBands == kPhotonGroupBandsMax);
+    const double sb = photonBytesEach(true, s.bands.size()), vb = photonBytesEach(false, s.bands.size());
+    const double need = static_cast<double>(c->surfacePhotons) * sb + static_cast<double>(c->volumePhotons) * vb;
+    const double budget = static_cast<double>(memoryBudget());
+    if (need > budget)
+        r.fail(static_cast<double>(c->volumePhotons) * vb > static_cast<double>(c->surfacePhotons) * sb ? "volume_photons"
+                                                                                                     : "surface_photons",
+               fmt::format("{} surface and {} volume photons need {} ({:.0f} and {:.0f} bytes each with the search grid "
+                           "and its build buffers), more than the memory budget of {} (--max-memory)",
+                           c->surfacePhotons, c->volumePhotons, formatBytes(need), sb, vb, formatBytes(budget)));
+}
+
+// The photon maps: read only when some material or medium uses a photon-map solver. Returns the
+// hint for settings set but not read.
+std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
+    int surfacePM = -1, mediumPM = -1;
+    for (size_t i = 0; i < ir.materials.size(); ++i)
+        if (ir.materials[i].solver == ir::Material::Solver::SurfacePM && surfacePM < 0) surfacePM = static_cast<int>(i);
+    for (size_t i = 0; i < ir.media.size(); ++i) {
+        c->mediumPM.push_back(ir.media[i].solver == ir::Medium::Solver::MediumPM);
+        if (c->mediumPM.back() && mediumPM < 0) mediumPM = static_cast<int>(i);
+    }
+    if (surfacePM >= 0) {
+        if (!r.isSet("surface_photons"))
+            materialError(ir.materials[surfacePM], static_cast<size_t>(surfacePM),
+                          "the surface-pm solver needs the surface photon map: set render.photons.surface");
+        c->surfacePhotons = r.get<uint64_t>("surface_photons");
+        c->surfaceRadius = r.get<double>("surface_search_radius_m");
+    }
+    if (mediumPM >= 0) {
+        if (!r.isSet("volume_photons"))
+            mediumError(ir.media[mediumPM], static_cast<size_t>(mediumPM),
+                        "the medium-pm solver needs the volume photon map: set render.photons.volume");
+        c->volumePhotons = r.get<uint64_t>("volume_photons");
+        c->volumeRadius = r.get<double>("volume_search_radius_m");
+        c->marchStep = r.get<double>("march_step_m");
+        c->effectiveScattering = r.get<bool>("effective_scattering");
+    }
+    if (c->usesPhotons()) readPhotonPasses(ir.render, r, c);
+    return surfacePM < 0 && mediumPM < 0 ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read "
+                                           "only when a material uses solver surface-pm or the water uses solver medium-pm"
+                                         : "";
+}
+
+// The dirsig solver of each material: the one it names, or the default for its type.
+void readDirsigSolvers(const ir::SceneIR& ir, RenderConfig* c) {
+    using S = ir::Material::Solver;
+    using T = ir::Material::Type;
+    for (size_t i = 0; i < ir.materials.size(); ++i) {
+        const ir::Material& m = ir.materials[i];
+        const bool diffuse = m.type == T::Lambertian || m.type == T::Textured;
+        const bool interface = m.type == T::Dielectric || m.type == T::RoughDielectric;
+        S solver = interface ? S::Fresnel : S::Classic;
+        if (m.solver) {
+            solver = *m.solver;
+            if (!diffuse && !interface)
+                materialError(m, i, fmt::format("a {} material has no radiometry solver; remove solver '{}'",
+                                                nameOf(m.type), nameOf(solver)));
+            if (diffuse && solver == S::Fresnel)
+                materialError(m, i, "solver fresnel cannot evaluate a diffuse material (use classic, generic or surface-pm)");
+            if (interface && solver != S::Fresnel && solver != S::Generic)
+                materialError(m, i, fmt::format("an interface needs the fresnel (or generic) solver, not {}", nameOf(solver)));
+        }
+        c->solvers.push_back(solver);
+    }
+}
+
+void readDirsigSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
+    c->maxBounces = r.get<int>("max_bounces");
+    c->maxSpecularDepth = r.get<int>("max_specular_depth");
+    c->hemisphereSamples = r.get<int>("hemisphere_samples");
+    r.finish(readDirsigPhotonSettings(ir, r, c));
+    readDirsigSolvers(ir, c);
+}
+
+void readPathSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
+    c->maxBounces = r.get<int>("max_bounces");
+    c->maxSpecularDepth = r.get<int>("max_specular_depth");
+    c->marchStep = r.get<double>("march_step_m");
+    r.finish("");
+    for (size_t i = 0; i < ir.materials.size(); ++i) {
+        const ir::Material& m = ir.materials[i];
+        if (m.solver)
+            materialError(m, i, fmt::format("the path estimator does not use per-material solvers; remove solver '{}' or "
+                                            "choose estimator: dirsig",
+                                            nameOf(*m.solver)));
+        c->solvers.push_back(ir::Material::Solver::Generic);
+    }
+    for (size_t i = 0; i < ir.media.size(); ++i) {
+        if (ir.media[i].solver)
+            mediumError(ir.media[i], i, fmt::format("the path estimator does not use medium solvers; remove solver '{}' or "
+                                                    "choose estimator: dirsig",
+                                                    nameOf(*ir.media[i].solver)));
+        c->mediumPM.push_back(false);
+    }
+}
 
 }  // namespace
 
 RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
+    registerEstimatorKinds();
     const ir::RenderSettings& s = ir.render;
     RenderConfig c;
     c.estimator = s.estimator;
-    SettingsReader r(s);
-    c.probeSamples = r.get(s.probeSamples, "probe_samples", 4096, 2, 1 << 30);
-    c.probeBatches = r.get(s.probeBatches, "probe_batches", 16, 2, 4096);
+    SettingsReader r(s, estimatorKinds().get(nameOf(s.estimator), "render.estimator"));
+    c.probeSamples = r.get<int>("probe_samples");
+    c.probeBatches = r.get<int>("probe_batches");
     if (c.probeBatches > c.probeSamples)
         r.fail("probe_batches", fmt::format("{} batches cannot be formed from {} probe samples", c.probeBatches,
                                             c.probeSamples));
-    using S = ir::Material::Solver;
-    using T = ir::Material::Type;
     switch (s.estimator) {
-        case ir::Estimator::Dirsig: {
-            c.maxBounces = r.get(s.maxBounces, "max_bounces", 8, 0, 100000);
-            c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 16, 0, 100000);
-            c.hemisphereSamples = r.get(s.hemisphereSamples, "hemisphere_samples", 64, 1, 1 << 20);
-            // Photon maps: read only when some material or medium uses a photon-map solver.
-            int surfacePM = -1, mediumPM = -1;
-            for (size_t i = 0; i < ir.materials.size(); ++i)
-                if (ir.materials[i].solver == S::SurfacePM && surfacePM < 0) surfacePM = static_cast<int>(i);
-            for (size_t i = 0; i < ir.media.size(); ++i) {
-                c.mediumPM.push_back(ir.media[i].solver == ir::Medium::Solver::MediumPM);
-                if (c.mediumPM.back() && mediumPM < 0) mediumPM = static_cast<int>(i);
-            }
-            if (surfacePM >= 0) {
-                if (!s.surfacePhotons)
-                    materialError(ir.materials[surfacePM], static_cast<size_t>(surfacePM),
-                                  "the surface-pm solver needs the surface photon map: set render.photons.surface");
-                c.surfacePhotons = r.get(s.surfacePhotons, "surface_photons", uint64_t{0}, uint64_t{1}, uint64_t{10'000'000'000});
-                c.surfaceRadius = r.get(s.surfaceSearchRadius, "surface_search_radius_m", 0.4, 1e-4, 100.0, "m");
-            }
-            if (mediumPM >= 0) {
-                if (!s.volumePhotons)
-                    mediumError(ir.media[mediumPM], static_cast<size_t>(mediumPM),
-                                "the medium-pm solver needs the volume photon map: set render.photons.volume");
-                c.volumePhotons = r.get(s.volumePhotons, "volume_photons", uint64_t{0}, uint64_t{1}, uint64_t{10'000'000'000});
-                c.volumeRadius = r.get(s.volumeSearchRadius, "volume_search_radius_m", 0.4, 1e-4, 100.0, "m");
-                c.marchStep = r.get(s.marchStep, "march_step_m", 0.1, 1e-4, 1e4, "m");
-                c.effectiveScattering = r.get(s.effectiveScattering, "effective_scattering", false, false, true);
-            }
-            if (c.usesPhotons()) {
-                c.photonMaxBounces = r.get(s.photonMaxBounces, "photon_max_bounces", 200, 1, 100000);
-                c.photonMaxSpecularDepth = s.maxSpecularDepth.value_or(1000);
-                c.passes = r.get(s.progressivePasses, "progressive_passes", 1, 1, 100000);
-                c.alpha = r.get(s.progressiveAlpha, "progressive_alpha", 2.0 / 3.0, 0.05, 0.99);
-                // The maps of the largest band group must fit in the memory budget (the same
-                // estimate check-scene uses, core/render_budget.h).
-                static_assert(kMaxGroupBands == kPhotonGroupBandsMax);
-                const double sb = photonBytesEach(true, s.bands.size()), vb = photonBytesEach(false, s.bands.size());
-                const double need = static_cast<double>(c.surfacePhotons) * sb + static_cast<double>(c.volumePhotons) * vb;
-                const double budget = static_cast<double>(memoryBudget());
-                if (need > budget)
-                    r.fail(static_cast<double>(c.volumePhotons) * vb > static_cast<double>(c.surfacePhotons) * sb
-                               ? "volume_photons"
-                               : "surface_photons",
-                           fmt::format("{} surface and {} volume photons need {} ({:.0f} and {:.0f} bytes each with "
-                                       "the search grid and its build buffers), more than the memory budget of {} "
-                                       "(--max-memory)",
-                                       c.surfacePhotons, c.volumePhotons, formatBytes(need), sb, vb,
-                                       formatBytes(budget)));
-            }
-            r.finish("dirsig", surfacePM < 0 && mediumPM < 0
-                                   ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read only "
-                                     "when a material uses solver surface-pm or the water uses solver medium-pm"
-                                   : "");
-            for (size_t i = 0; i < ir.materials.size(); ++i) {
-                const ir::Material& m = ir.materials[i];
-                const bool diffuse = m.type == T::Lambertian || m.type == T::Textured;
-                const bool interface = m.type == T::Dielectric || m.type == T::RoughDielectric;
-                S solver = interface ? S::Fresnel : S::Classic;
-                if (m.solver) {
-                    solver = *m.solver;
-                    if (!diffuse && !interface)
-                        materialError(m, i, fmt::format("a {} material has no radiometry solver; remove solver '{}'",
-                                                        nameOf(m.type), nameOf(solver)));
-                    if (diffuse && solver == S::Fresnel)
-                        materialError(m, i, "solver fresnel cannot evaluate a diffuse material (use classic, generic "
-                                            "or surface-pm)");
-                    if (interface && solver != S::Fresnel && solver != S::Generic)
-                        materialError(m, i, fmt::format("an interface needs the fresnel (or generic) solver, not {}",
-                                                        nameOf(solver)));
-                }
-                c.solvers.push_back(solver);
-            }
-            break;
-        }
-        case ir::Estimator::Path: {
-            // Limits far above what Russian roulette lets a path reach: they only stop a path that
-            // would otherwise never end (light trapped without loss), so they do not bias results.
-            c.maxBounces = r.get(s.maxBounces, "max_bounces", 1000, 0, 100000);
-            c.maxSpecularDepth = r.get(s.maxSpecularDepth, "max_specular_depth", 1000, 0, 100000);
-            c.marchStep = r.get(s.marchStep, "march_step_m", 0.1, 1e-4, 1e4, "m");
-            r.finish("path", "");
-            for (size_t i = 0; i < ir.materials.size(); ++i) {
-                const ir::Material& m = ir.materials[i];
-                if (m.solver)
-                    materialError(m, i, fmt::format("the path estimator does not use per-material solvers; remove "
-                                                    "solver '{}' or choose estimator: dirsig",
-                                                    nameOf(*m.solver)));
-                c.solvers.push_back(S::Generic);
-            }
-            for (size_t i = 0; i < ir.media.size(); ++i) {
-                if (ir.media[i].solver)
-                    mediumError(ir.media[i], i, fmt::format("the path estimator does not use medium solvers; remove "
-                                                            "solver '{}' or choose estimator: dirsig",
-                                                            nameOf(*ir.media[i].solver)));
-                c.mediumPM.push_back(false);
-            }
-            break;
-        }
+        case ir::Estimator::Dirsig: readDirsigSettings(ir, r, &c); break;
+        case ir::Estimator::Path: readPathSettings(ir, r, &c); break;
     }
     return c;
 }

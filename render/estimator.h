@@ -8,11 +8,13 @@
 //           (dirsig_estimator.cpp);
 //   path    an unbiased volumetric path tracer: free-flight sampling, phase-function sampling,
 //           next-event estimation toward the sun and Russian roulette (path_estimator.cpp).
-// Adding an estimator is one file plus one line in the factory and in the Estimator name table.
+// Adding an estimator is one file (with its descriptor at the end, render/estimator_settings.h)
+// plus one line in the factory, in registerEstimatorKinds() and in the Estimator name table.
 //
-// Settings: makeRenderConfig() reads every render setting the chosen estimator uses (with its
-// default and allowed range) and refuses, with an InputError naming it, any setting that is set
-// but that the estimator does not read, and any material solver the estimator does not honour.
+// Settings: makeRenderConfig() reads every render setting the chosen estimator uses (with the
+// default and allowed range its descriptor declares) and refuses, with an InputError naming it,
+// any setting that no estimator declares (with a did-you-mean), any that is set but that the
+// estimator does not read, and any material solver the estimator does not honour.
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -21,6 +23,7 @@
 
 #include "core/rng.h"
 #include "core/scene_ir.h"
+#include "render/estimator_settings.h"
 #include "render/scene.h"
 #include "render/spectral.h"
 #include "render/sun_connection.h"

@@ -21,29 +21,6 @@ void averageWeights(const MediumLayer& l, BandGroup g, double* w) {
 }
 }  // namespace
 
-PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who) {
-    using T = ir::PhaseFunction::Type;
-    switch (p.type) {
-        case T::Isotropic: return PhaseFunction::isotropic();
-        case T::HenyeyGreenstein:
-            if (!(p.g > -1 && p.g < 1))
-                throw InputError(fmt::format("{}: henyey-greenstein g = {} is out of range; allowed (-1, 1)", who, p.g));
-            return PhaseFunction::henyeyGreenstein(p.g);
-        case T::Petzold: return PhaseFunction::petzold();
-        case T::FournierForand:
-            if (!(p.backscatterFraction > 0 && p.backscatterFraction < 0.5))
-                throw InputError(fmt::format("{}: fournier-forand backscatter_fraction = {} is out of range; allowed "
-                                             "(0, 0.5)",
-                                             who, p.backscatterFraction));
-            return PhaseFunction::fournierForand(p.backscatterFraction);
-        case T::RayleighLike:
-            if (!(p.k >= 0 && p.k <= 1))
-                throw InputError(fmt::format("{}: rayleigh k = {} is out of range; allowed [0, 1]", who, p.k));
-            return p.k == 1.0 ? PhaseFunction::rayleighLike() : PhaseFunction::molecularWater(p.k);
-    }
-    throw InternalError("unknown phase function type");
-}
-
 Medium Medium::air(size_t bandCount) {
     Medium m;
     m.n_.assign(bandCount, 1.0);
@@ -77,7 +54,7 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
         for (const ir::Scatterer& s : L.scatterers) {
             const std::string sw = fmt::format("{} scatterer '{}'", lw, s.name);
             bi.push_back(s.scattering.bandAverages(bands, sw + " scattering"));
-            d.phases.push_back(makePhaseFunction(s.phase, sw + " phase"));
+            d.phases.push_back(makePhaseFunction(s.phase.type, s.phase.params, sw + " phase"));
             forwardPeaked_ |= d.phases.back().evalOneMinusCos(1e-6) > 10.0 / (4.0 * kPi);
             for (size_t k = 0; k < nb; ++k) {
                 if (!(bi.back()[k] >= 0))

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "core/phase_functions.h"
 #include "core/ray.h"
 #include "core/rng.h"
 #include "core/scene_ir.h"
-#include "render/phase_functions.h"
 #include "render/spectral.h"
 
 namespace littoral::render {
@@ -119,8 +119,5 @@ private:
     std::vector<MediumLayer> layers_;
     bool attenuating_ = false, scattering_ = false, forwardPeaked_ = false;
 };
-
-// Builds the render phase function for an IR description (InputError naming `who` on bad values).
-PhaseFunction makePhaseFunction(const ir::PhaseFunction& p, const std::string& who);
 
 }  // namespace littoral::render

@@ -384,3 +384,21 @@ std::unique_ptr<Estimator> makePathEstimator(const Scene& scene, const RenderCon
 }
 
 }  // namespace littoral::render
+
+// ---------------------------------------------------------------------------------------------
+// The path estimator's descriptor: the render settings it reads, in the order scene.json writes
+// them. Its path limits sit far above what Russian roulette lets a path reach: they only stop a
+// path that would otherwise never end (light trapped without loss), so they do not bias results.
+
+namespace littoral::render {
+
+const KindInfo& pathEstimatorKind() {
+    static const KindInfo kind{"estimator", "path",
+                               "an unbiased volumetric path tracer, the reference the other estimators are checked "
+                               "against",
+                               {maxBouncesSetting(1000), maxSpecularDepthSetting(1000), probeSamplesSetting(),
+                                probeBatchesSetting(), marchStepSetting()}};
+    return kind;
+}
+
+}  // namespace littoral::render

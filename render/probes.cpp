@@ -11,9 +11,11 @@
 
 #include "core/error.h"
 #include "core/frame.h"
+#include "core/kinds.h"
+#include "core/probe_quantities.h"
+#include "core/progress.h"
 #include "core/rng.h"
 #include "core/units.h"
-#include "core/progress.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -22,14 +24,28 @@ namespace {
 
 enum class Quantity { Ed, Eu, Eod, Eou, Lu };
 
-Quantity parseQuantity(const std::string& q, const std::string& who) {
-    if (q == "Ed") return Quantity::Ed;
-    if (q == "Eu") return Quantity::Eu;
-    if (q == "Eod") return Quantity::Eod;
-    if (q == "Eou") return Quantity::Eou;
-    if (q == "Lu") return Quantity::Lu;
-    throw InputError(fmt::format("{}: unknown quantity '{}' (allowed: Ed, Eu, Eod, Eou, Lu)", who, q));
+// The quantities a probe measures: one descriptor each (name, doc line; no parameters), in the
+// order messages list them. registerEstimatorKinds() registers them for the scene-file parser.
+struct QuantityKind {
+    KindInfo info;
+    Quantity quantity;
+};
+const KindInfo& kindInfo(const QuantityKind& k) { return k.info; }
+
+const KindRegistry<QuantityKind>& quantityKinds() {
+    static const KindRegistry<QuantityKind> registry = [] {
+        KindRegistry<QuantityKind> r("probe quantity");
+        r.add({{"probe quantity", "Ed", "downwelling plane irradiance, W m^-2 um^-1", {}}, Quantity::Ed});
+        r.add({{"probe quantity", "Eu", "upwelling plane irradiance, W m^-2 um^-1", {}}, Quantity::Eu});
+        r.add({{"probe quantity", "Eod", "downwelling scalar irradiance, W m^-2 um^-1", {}}, Quantity::Eod});
+        r.add({{"probe quantity", "Eou", "upwelling scalar irradiance, W m^-2 um^-1", {}}, Quantity::Eou});
+        r.add({{"probe quantity", "Lu", "nadir-viewing upwelling radiance, W m^-2 sr^-1 um^-1", {}}, Quantity::Lu});
+        return r;
+    }();
+    return registry;
 }
+
+Quantity parseQuantity(const std::string& q, const std::string& who) { return quantityKinds().get(q, who).quantity; }
 
 // Pass numbers for probe random streams, far from pixel-sample passes; progressive pass p adds
 // (p - 1) 2^24, so that every pass draws its own directions and paths (see renderer.cpp).
@@ -131,6 +147,10 @@ void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBat
 }
 
 }  // namespace
+
+void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry) {
+    for (const QuantityKind& k : quantityKinds().kinds()) registry.add(k.info);
+}
 
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
                                       int probeIndex, const RenderOptions& opts) {

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "core/kinds.h"
 #include "core/scene_ir.h"
 #include "render/estimator.h"
 #include "render/renderer.h"
@@ -43,6 +44,10 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
 // Convenience: builds the estimators of `scene` for this one call.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts = {});
+
+// Adds the probe quantities' descriptors (name, doc; probes.cpp) to `registry`; called by
+// registerEstimatorKinds(), so that the scene-file parser reads the same names.
+void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry);
 
 // CSV (one row per probe, quantity and band) and JSON renderings of probe results.
 std::string probesCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands);

@@ -134,7 +134,10 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
     TruthImages truth(cam.width(), cam.height());
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     std::atomic<int64_t> hits{0};
-    const int maxEvents = scene.ir().render.maxSpecularDepth.value_or(16);
+    // The truth images follow at most render.max_specular_depth interface events (16 unless set,
+    // whichever estimator renders the radiance).
+    const ParamValue* depth = scene.ir().render.settings.find("max_specular_depth");
+    const int maxEvents = depth ? static_cast<int>(numberOf(*depth)) : 16;
     runTiles(opts, tiling, nullptr, [&](size_t tile) {
         int64_t local = 0;
         tiling.forEachPixel(tile, [&](int x, int y) {

@@ -1,5 +1,6 @@
 #include "scenegen/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -8,8 +9,12 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/kinds.h"
 #include "core/output_names.h"
+#include "core/phase_functions.h"
+#include "core/probe_quantities.h"
 #include "core/solar_position.h"
+#include "core/suggest.h"
 #include "core/text_checks.h"
 #include "core/units.h"
 #include "scenegen/water_constituents.h"
@@ -216,8 +221,11 @@ ProbeSection parseProbe(const YamlNode& n) {
     p.loc = n.loc();
     p.name = n["name"].asOutputName("probe");
     p.position = parseVec3(n["position"]);
-    for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum({"Ed", "Eu", "Eod", "Eou", "Lu"}));
-    if (p.quantities.empty()) n["quantities"].fail("list at least one of Ed, Eu, Eod, Eou, Lu");
+    // The quantities the renderer describes (render/probes.cpp, registered in core/kinds.h).
+    const std::vector<std::string> allowed = probeQuantityKinds().names();
+    if (allowed.empty()) n["quantities"].fail("no probe quantity is registered in this program (render::registerEstimatorKinds())");
+    for (const auto& q : n["quantities"].items()) p.quantities.push_back(q.asEnum(allowed));
+    if (p.quantities.empty()) n["quantities"].fail("list at least one of " + joinList(allowed));
     p.medium = n.getEnum("medium", "auto", {"auto", "air", "water"});
     if (auto sm = n.optional("samples")) p.samples = static_cast<int>(sm->asInt(2, 1 << 30));
     return p;
@@ -260,30 +268,36 @@ MaterialSection parseMaterial(const YamlNode& n) {
     return m;
 }
 
-ir::PhaseFunction parsePhase(const YamlNode& ph) {
-    ph.expectKeys({"type", "g", "backscatter_fraction"});
-    using T = ir::PhaseFunction::Type;
-    ir::PhaseFunction p;
-    p.type = *parseName<T>(ph["type"].asEnum(allNames<T>()));
-    if (p.type == T::HenyeyGreenstein) p.g = ph["g"].asDouble(-0.999, 0.999);
-    else if (ph.has("g")) ph["g"].fail("'g' is only used by the henyey-greenstein phase function");
-    if (p.type == T::FournierForand) p.backscatterFraction = ph["backscatter_fraction"].asDouble(1e-4, 0.4999);
-    else if (ph.has("backscatter_fraction"))
-        ph["backscatter_fraction"].fail("'backscatter_fraction' is only used by the fournier-forand phase function");
-    return p;
+// A value of a parameter as its descriptor types it, range-checked at its location.
+ParamValue parseParam(const YamlNode& v, const ParamSpec& p) {
+    switch (p.type) {
+        case ParamType::Boolean: return v.asBool();
+        case ParamType::Integer:
+            return static_cast<int64_t>(v.asInt(static_cast<long long>(p.lo), static_cast<long long>(p.hi)));
+        case ParamType::Real: break;
+    }
+    return v.asDouble(p.lo, p.hi, p.unit);
 }
 
-ir::PhaseFunction phaseToIr(const PhaseSpec& p) {
-    using T = ir::PhaseFunction::Type;
-    ir::PhaseFunction f;
-    switch (p.kind) {
-        case PhaseSpec::Kind::Isotropic: f.type = T::Isotropic; break;
-        case PhaseSpec::Kind::HenyeyGreenstein: f.type = T::HenyeyGreenstein, f.g = p.parameter; break;
-        case PhaseSpec::Kind::RayleighLike: f.type = T::RayleighLike, f.k = p.parameter; break;
-        case PhaseSpec::Kind::FournierForand: f.type = T::FournierForand, f.backscatterFraction = p.parameter; break;
-        case PhaseSpec::Kind::Petzold: f.type = T::Petzold; break;
+// A phase function {type, <its parameters>}: the kinds and their parameters are the descriptors of
+// core/phase_functions.h; every parameter of the kind gets a value (its default when not given).
+ir::PhaseFunction parsePhase(const YamlNode& ph) {
+    const KindRegistry<PhaseKind>& kinds = phaseFunctionKinds();
+    std::vector<std::string> keys = {"type"};
+    for (const auto& k : kinds.allParamNames()) keys.push_back(k);
+    ph.expectKeys(keys);
+    ir::PhaseFunction p;
+    p.type = ph["type"].asEnum(kinds.names());
+    const KindInfo& kind = kinds.find(p.type)->info;
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (ph.has(keys[i]) && !kind.param(keys[i]))
+            ph[keys[i]].fail(fmt::format("'{}' is only used by the {} {}", keys[i], kinds.kindsWithParam(keys[i]),
+                                         kinds.family()));
+    for (const ParamSpec& spec : kind.params) {
+        if (!ph.has(spec.name) && spec.defaultValue) p.params.set(spec.name, spec.defaultParamValue());
+        else p.params.set(spec.name, parseParam(ph[spec.name], spec));
     }
-    return f;
+    return p;
 }
 
 // Grid on which constituent spectra are tabulated: 5 nm steps over the render bands.
@@ -310,7 +324,7 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         o->absorption = w.absorption();
         for (const IopComponent& c : w.components)
             if (!(c.scattering.isConstant() && c.scattering.values()[0] == 0.0))
-                o->scatterers.push_back({c.name, c.scattering, phaseToIr(c.phase)});
+                o->scatterers.push_back({c.name, c.scattering, c.phase});
     } else if (auto c = n.optional("constituents")) {
         c->expectKeys({"pure_water", "chlorophyll_mg_m3", "sediment_g_m3", "cdom_440_per_m", "cdom_slope_per_nm",
                        "particle_phase"});
@@ -322,16 +336,7 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         comp.sedimentGM3 = c->getDouble("sediment_g_m3", 0, 0, 10000, "g m^-3");
         comp.cdomA440PerM = c->getDouble("cdom_440_per_m", 0, 0, 100, "m^-1");
         comp.cdomSlopePerNm = c->getDouble("cdom_slope_per_nm", 0.014, 0.001, 0.1, "nm^-1");
-        if (auto pp = c->optional("particle_phase")) {
-            const ir::PhaseFunction f = parsePhase(*pp);
-            using T = ir::PhaseFunction::Type;
-            const PhaseSpec ps = f.type == T::HenyeyGreenstein ? PhaseSpec::henyeyGreenstein(f.g)
-                               : f.type == T::FournierForand   ? PhaseSpec::fournierForand(f.backscatterFraction)
-                               : f.type == T::Petzold          ? PhaseSpec::petzold()
-                               : f.type == T::RayleighLike     ? PhaseSpec::rayleighLike(f.k)
-                                                               : PhaseSpec::isotropic();
-            comp.phytoplanktonPhase = comp.sedimentPhase = ps;
-        }
+        if (auto pp = c->optional("particle_phase")) comp.phytoplanktonPhase = comp.sedimentPhase = parsePhase(*pp);
         WaterIops w;
         try {
             w = computeIops(comp, constituentGrid(bands));
@@ -342,13 +347,13 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         o->absorption = w.absorption();
         for (const IopComponent& k : w.components)
             if (!(k.scattering.isConstant() && k.scattering.values()[0] == 0.0))
-                o->scatterers.push_back({k.name, k.scattering, phaseToIr(k.phase)});
+                o->scatterers.push_back({k.name, k.scattering, k.phase});
     } else {
         if (auto a = n.optional("absorption_per_m")) o->absorption = parseSpectrum(*a, 0, 1000, "m^-1");
         if (auto b = n.optional("scattering_per_m")) {
             const Spectrum sb = parseSpectrum(*b, 0, 1000, "m^-1");
             if (!(sb.isConstant() && sb.values()[0] == 0.0))
-                o->scatterers.push_back({"particles", sb, {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88}});
+                o->scatterers.push_back({"particles", sb, {"henyey-greenstein", {{"g", 0.88}}}});
         }
     }
     if (auto ph = n.optional("phase")) {
@@ -402,9 +407,67 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
     }
 }
 
+// The scene-file node of a render setting at key path "a" or "a.b", if given.
+std::optional<YamlNode> settingNode(const YamlNode& render, const std::string& sceneKey) {
+    const size_t dot = sceneKey.find('.');
+    if (dot == std::string::npos) return render.optional(sceneKey);
+    const auto section = render.optional(sceneKey.substr(0, dot));
+    return section ? section->optional(sceneKey.substr(dot + 1)) : std::nullopt;
+}
+
+// The keys allowed under `render:` and under each of its sections ("photons", ...), from the
+// settings the estimators declare (core/kinds.h), in declaration order.
+struct RenderKeys {
+    std::vector<std::string> top = {"estimator", "bands", "seed", "threads"};
+    std::vector<std::pair<std::string, std::vector<std::string>>> sections;
+};
+RenderKeys renderKeys(const std::vector<const ParamSpec*>& settings) {
+    RenderKeys k;
+    auto addOnce = [](std::vector<std::string>& v, const std::string& s) {
+        if (std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
+    };
+    for (const ParamSpec* p : settings) {
+        const std::string& key = p->sceneName();
+        const size_t dot = key.find('.');
+        addOnce(k.top, key.substr(0, dot));
+        if (dot == std::string::npos) continue;
+        const std::string section = key.substr(0, dot);
+        auto it = std::find_if(k.sections.begin(), k.sections.end(), [&](const auto& s) { return s.first == section; });
+        if (it == k.sections.end()) it = k.sections.insert(k.sections.end(), {section, {}});
+        addOnce(it->second, key.substr(dot + 1));
+    }
+    return k;
+}
+
+// The optional settings: those the estimators declare, each typed and range-checked by the chosen
+// estimator's declaration (or, for a setting it does not read, the first estimator's that does:
+// makeRenderConfig then refuses it as not read). Stored in the chosen estimator's declaration order,
+// each with its location, so "not read by this estimator" points here.
+void parseRenderSettings(const YamlNode& n, const std::vector<const ParamSpec*>& settings, ir::RenderSettings* s) {
+    const KindInfo* chosen = estimatorKinds().find(nameOf(s->estimator));
+    std::vector<const ParamSpec*> order;
+    if (chosen)
+        for (const ParamSpec& p : chosen->params) order.push_back(&p);
+    for (const ParamSpec* p : settings)
+        if (!chosen || !chosen->param(p->name)) order.push_back(p);
+    for (const ParamSpec* p : order)
+        if (const auto v = settingNode(n, p->sceneName())) {
+            s->settings.set(p->name, parseParam(*v, *p));
+            s->locations[p->sceneName()] = v->loc();
+        }
+}
+
 void parseRender(const YamlNode& n, RenderSection* r) {
-    n.expectKeys({"estimator", "bands", "seed", "threads", "max_bounces", "max_specular_depth", "hemisphere_samples",
-                  "probe_samples", "probe_batches", "photons", "search_radius_m", "march_step_m", "progressive"});
+    const std::vector<const ParamSpec*> settings = allRenderSettings();
+    const RenderKeys keys = renderKeys(settings);
+    // A program that parses scene files without linking the renderer (a fuzz target) has no
+    // estimators registered, and so no optional settings.
+    if (settings.empty())
+        for (const auto& k : n.keys())
+            if (std::find(keys.top.begin(), keys.top.end(), k) == keys.top.end())
+                n[k].fail("no estimator is registered in this program, so it reads no optional render settings "
+                          "(render::registerEstimatorKinds())");
+    n.expectKeys(keys.top);
     auto& s = r->settings;
     if (auto e = n.optional("estimator")) {
         s.estimator = *parseName<ir::Estimator>(e->asEnum(allNames<ir::Estimator>()));
@@ -427,51 +490,9 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     }
     s.seed = static_cast<uint64_t>(n.getInt("seed", 1, 0, (1LL << 62)));
     s.threads = static_cast<int>(n.getInt("threads", 0, 0, 1024));
-    // Optional settings: only the ones written are set (unset = the estimator's default), and
-    // each remembers its location so "not read by this estimator" points here.
-    auto optInt = [&](const YamlNode& node, const char* key, const std::string& sceneKey, long long lo, long long hi,
-                      auto* out) {
-        if (auto v = node.optional(key)) {
-            *out = static_cast<std::decay_t<decltype(**out)>>(v->asInt(lo, hi));
-            s.locations[sceneKey] = v->loc();
-        }
-    };
-    auto optDouble = [&](const YamlNode& node, const char* key, const std::string& sceneKey, double lo, double hi,
-                         std::optional<double>* out) {
-        if (auto v = node.optional(key)) {
-            *out = v->asDouble(lo, hi, "m");
-            s.locations[sceneKey] = v->loc();
-        }
-    };
-    optInt(n, "max_bounces", "max_bounces", 0, 100000, &s.maxBounces);
-    optInt(n, "max_specular_depth", "max_specular_depth", 0, 100000, &s.maxSpecularDepth);
-    optInt(n, "hemisphere_samples", "hemisphere_samples", 1, 1 << 20, &s.hemisphereSamples);
-    optInt(n, "probe_samples", "probe_samples", 2, 1 << 30, &s.probeSamples);
-    optInt(n, "probe_batches", "probe_batches", 2, 4096, &s.probeBatches);
-    if (auto p = n.optional("photons")) {
-        p->expectKeys({"surface", "volume", "max_bounces", "effective_scattering"});
-        optInt(*p, "surface", "photons.surface", 1, 10'000'000'000LL, &s.surfacePhotons);
-        optInt(*p, "volume", "photons.volume", 1, 10'000'000'000LL, &s.volumePhotons);
-        optInt(*p, "max_bounces", "photons.max_bounces", 1, 100000, &s.photonMaxBounces);
-        if (auto e = p->optional("effective_scattering")) {
-            s.effectiveScattering = e->asBool();
-            s.locations["photons.effective_scattering"] = e->loc();
-        }
-    }
-    if (auto pr = n.optional("progressive")) {
-        pr->expectKeys({"passes", "alpha"});
-        optInt(*pr, "passes", "progressive.passes", 1, 100000, &s.progressivePasses);
-        if (auto a = pr->optional("alpha")) {
-            s.progressiveAlpha = a->asDouble(0.05, 0.99);
-            s.locations["progressive.alpha"] = a->loc();
-        }
-    }
-    if (auto sr = n.optional("search_radius_m")) {
-        sr->expectKeys({"surface", "volume"});
-        optDouble(*sr, "surface", "search_radius_m.surface", 1e-4, 100, &s.surfaceSearchRadius);
-        optDouble(*sr, "volume", "search_radius_m.volume", 1e-4, 100, &s.volumeSearchRadius);
-    }
-    optDouble(n, "march_step_m", "march_step_m", 1e-4, 100, &s.marchStep);
+    for (const auto& [section, sub] : keys.sections)
+        if (auto node = n.optional(section)) node->expectKeys(sub);
+    parseRenderSettings(n, settings, &s);
 }
 
 template <class T>

@@ -144,17 +144,6 @@ Spectrum sumSpectra(const std::vector<const Spectrum*>& parts, const std::string
 
 }  // namespace
 
-std::string PhaseSpec::describe() const {
-    switch (kind) {
-        case Kind::Isotropic: return "isotropic";
-        case Kind::HenyeyGreenstein: return fmt::format("Henyey-Greenstein g={}", parameter);
-        case Kind::RayleighLike: return fmt::format("Rayleigh-like 1 + {} cos^2", parameter);
-        case Kind::FournierForand: return fmt::format("Fournier-Forand B={}", parameter);
-        case Kind::Petzold: return "Petzold average particle";
-    }
-    return "?";
-}
-
 // ---- single constituents ----------------------------------------------------------------------
 
 Spectrum pureWaterAbsorptionTable() {
@@ -247,7 +236,7 @@ WaterIops computeIops(const WaterComposition& c, const std::vector<double>& wls,
         out.components.push_back(
             {"pure water", tab("pure-water absorption", [](double w) { return pureWaterAbsorption(w); }),
              tab("pure-water scattering", [&](double w) { return pureWaterScattering(w, c.water); }),
-             PhaseSpec::rayleighLike(kMolecularPhaseK),
+             ir::PhaseFunction{"rayleigh", {{"k", kMolecularPhaseK}}},
              c.water == WaterKind::Sea ? "Pope and Fry (1997); Morel (1974) sea water" : "Pope and Fry (1997); Morel (1974) fresh water"});
     if (c.chlorophyllMgM3 > 0)
         out.components.push_back(
@@ -262,7 +251,7 @@ WaterIops computeIops(const WaterComposition& c, const std::vector<double>& wls,
     if (c.cdomA440PerM > 0)
         out.components.push_back(
             {"CDOM", tab("CDOM absorption", [&](double w) { return cdomAbsorption(w, c.cdomA440PerM, c.cdomSlopePerNm); }),
-             Spectrum::constant(0.0), PhaseSpec::isotropic(), "Bricaud et al. (1981)"});
+             Spectrum::constant(0.0), ir::PhaseFunction{"isotropic", {}}, "Bricaud et al. (1981)"});
     return out;
 }
 
@@ -290,8 +279,8 @@ double WaterIops::scatteringAt(double wl) const {
     return s;
 }
 
-std::vector<std::pair<double, PhaseSpec>> WaterIops::phaseWeightsAt(double wl) const {
-    std::vector<std::pair<double, PhaseSpec>> out;
+std::vector<std::pair<double, ir::PhaseFunction>> WaterIops::phaseWeightsAt(double wl) const {
+    std::vector<std::pair<double, ir::PhaseFunction>> out;
     for (const auto& c : components) {
         const double b = c.scattering.at(wl);
         if (b > 0) out.push_back({b, c.phase});
@@ -299,8 +288,8 @@ std::vector<std::pair<double, PhaseSpec>> WaterIops::phaseWeightsAt(double wl) c
     return out;
 }
 
-std::vector<std::pair<double, PhaseSpec>> WaterIops::phaseWeights(const Band& band) const {
-    std::vector<std::pair<double, PhaseSpec>> out;
+std::vector<std::pair<double, ir::PhaseFunction>> WaterIops::phaseWeights(const Band& band) const {
+    std::vector<std::pair<double, ir::PhaseFunction>> out;
     for (const auto& c : components) {
         const double b = c.scattering.bandAverage(band, "scattering of '" + c.name + "' in '" + name + "'");
         if (b > 0) out.push_back({b, c.phase});
@@ -336,7 +325,7 @@ Spectrum table96(const double (&v)[3], double scale, const std::string& what) {
 
 WaterIops table103(const std::string& name, double scale) {
     const std::string src = fmt::format("Speir (2010) Table 10.3 = {} x Table 9.6", scale);
-    const PhaseSpec hg = PhaseSpec::henyeyGreenstein(0.88);  // Chapter 10: all scatterers HG g = 0.88
+    const ir::PhaseFunction hg{"henyey-greenstein", {{"g", 0.88}}};  // Chapter 10: all scatterers HG g = 0.88
     WaterIops w;
     w.name = name;
     w.includesPureWater = false;
@@ -345,7 +334,7 @@ WaterIops table103(const std::string& name, double scale) {
     w.components.push_back({"TSS", table96(kTable96TssA, scale, name + " TSS absorption"),
                             table96(kTable96TssB, scale, name + " TSS scattering"), hg, src});
     w.components.push_back({"CDOM", table96(kTable96CdomA, scale, name + " CDOM absorption"), Spectrum::constant(0.0),
-                            PhaseSpec::isotropic(), src});
+                            ir::PhaseFunction{"isotropic", {}}, src});
     return w;
 }
 
@@ -354,7 +343,8 @@ WaterIops table93(const std::string& name, const char* group, double a, double b
     WaterIops w;
     w.name = name;
     w.includesPureWater = false;
-    w.components.push_back({"bulk", Spectrum::constant(a), Spectrum::constant(b), PhaseSpec::henyeyGreenstein(0.92),
+    w.components.push_back({"bulk", Spectrum::constant(a), Spectrum::constant(b),
+                            ir::PhaseFunction{"henyey-greenstein", {{"g", 0.92}}},
                             fmt::format("Speir (2010) Table 9.3, {}", group)});
     return w;
 }

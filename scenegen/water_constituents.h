@@ -33,24 +33,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/scene_ir.h"
 #include "core/spectrum.h"
 
 namespace littoral::scenegen {
 
-// A phase function by name and parameter. (render/ owns the implementations; scene generation
-// cannot include render/, so it hands this description on through the IR.)
-struct PhaseSpec {
-    enum class Kind { Isotropic, HenyeyGreenstein, RayleighLike, FournierForand, Petzold };
-    Kind kind = Kind::Isotropic;
-    double parameter = 0.0;  // g (HG), k of 1 + k cos^2 (Rayleigh-like), backscatter fraction (FF)
-    static PhaseSpec isotropic() { return {Kind::Isotropic, 0.0}; }
-    static PhaseSpec henyeyGreenstein(double g) { return {Kind::HenyeyGreenstein, g}; }
-    static PhaseSpec rayleighLike(double k) { return {Kind::RayleighLike, k}; }
-    static PhaseSpec fournierForand(double b) { return {Kind::FournierForand, b}; }
-    static PhaseSpec petzold() { return {Kind::Petzold, 0.0}; }
-    std::string describe() const;
-    bool operator==(const PhaseSpec&) const = default;
-};
+// Phase functions are named as in the Scene IR (ir::PhaseFunction: a kind from
+// core/phase_functions.h and its parameters), e.g. {"henyey-greenstein", {{"g", 0.88}}}.
 
 // ---- the single-constituent models (wavelength in um, concentration as named) -----------------
 
@@ -86,8 +75,8 @@ struct WaterComposition {
     bool includePureWater = true;
     WaterKind water = WaterKind::Sea;
     MineralModel mineral;
-    PhaseSpec phytoplanktonPhase = PhaseSpec::petzold();
-    PhaseSpec sedimentPhase = PhaseSpec::petzold();
+    ir::PhaseFunction phytoplanktonPhase{"petzold", {}};
+    ir::PhaseFunction sedimentPhase{"petzold", {}};
 };
 
 // One absorber and/or scatterer. Spectra are tabulated (or constant); `phase` matters only where
@@ -96,7 +85,7 @@ struct IopComponent {
     std::string name;
     Spectrum absorption;  // m^-1
     Spectrum scattering;  // m^-1
-    PhaseSpec phase;
+    ir::PhaseFunction phase;
     std::string source;   // the data source, for reports
 };
 
@@ -113,8 +102,8 @@ struct WaterIops {
     double scatteringAt(double wavelengthUm) const;
     // (b_i, phase_i) of each component that scatters at this wavelength (or, band-averaged, in
     // this band): the weights of the phase-function mixture.
-    std::vector<std::pair<double, PhaseSpec>> phaseWeightsAt(double wavelengthUm) const;
-    std::vector<std::pair<double, PhaseSpec>> phaseWeights(const Band& band) const;
+    std::vector<std::pair<double, ir::PhaseFunction>> phaseWeightsAt(double wavelengthUm) const;
+    std::vector<std::pair<double, ir::PhaseFunction>> phaseWeights(const Band& band) const;
     const IopComponent* component(const std::string& name) const;  // nullptr if absent
 };
 

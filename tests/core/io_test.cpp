@@ -225,8 +225,8 @@ ir::SceneIR sampleIR() {
     s.sun.irradiance = Spectrum::tabulated({0.35, 0.55, 0.75}, {1500.1, 1800.25, 1400.0 / 3.0});
     s.sky.radiance = Spectrum::constant(0.1 + 0.2);
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeSamples = 1 << 20;
-    s.render.marchStep = 0.25;
+    s.render.settings.set("probe_samples", 1 << 20);
+    s.render.settings.set("march_step_m", 0.25);
     s.domain = {-10, 10, -5, 5, true};
     // Two layers: the top one with pure water (Rayleigh-like) and particles (Fournier-Forand).
     ir::Medium w;
@@ -236,11 +236,11 @@ ir::SceneIR sampleIR() {
     w.layers[0].zBottom = -2.5;
     w.layers[0].absorption = Spectrum::tabulated({0.4, 0.5, 0.6}, {0.020562, 0.006904, 0.002113});
     w.layers[0].scatterers = {
-        {"pure-water", Spectrum::constant(0.002), {ir::PhaseFunction::Type::RayleighLike, 0, 0}},
-        {"particles", Spectrum::constant(0.3), {ir::PhaseFunction::Type::FournierForand, 0, 0.0183}}};
+        {"pure-water", Spectrum::constant(0.002), {"rayleigh", {{"k", 1.0}}}},
+        {"particles", Spectrum::constant(0.3), {"fournier-forand", {{"backscatter_fraction", 0.0183}}}}};
     w.layers[1].zTop = -2.5;
     w.layers[1].absorption = Spectrum::constant(0.05);
-    w.layers[1].scatterers = {{"particles", Spectrum::constant(0.1), {ir::PhaseFunction::Type::HenyeyGreenstein, 0.88, 0}}};
+    w.layers[1].scatterers = {{"particles", Spectrum::constant(0.1), {"henyey-greenstein", {{"g", 0.88}}}}};
     s.media.push_back(w);
     ir::Material sand, iface, tex;
     sand.name = "sand";
@@ -324,13 +324,13 @@ TEST(SceneIR, RoundTripIsByteIdentical) {
     EXPECT_EQ(r.materials[4].textureY1, 30.25);
     EXPECT_EQ(r.materials[4].classMaterials, (std::vector<std::string>{"sand", "", "grass"}));
     EXPECT_EQ(r.render.estimator, ir::Estimator::Path);
-    EXPECT_EQ(r.render.probeSamples, 1 << 20);
-    EXPECT_FALSE(r.render.maxBounces.has_value());  // unset stays unset
+    EXPECT_EQ(r.render.settings.number("probe_samples"), 1 << 20);
+    EXPECT_FALSE(r.render.settings.has("max_bounces"));  // unset stays unset
     EXPECT_TRUE(r.domain.periodic);
     ASSERT_EQ(r.media[0].layers.size(), 2u);
     EXPECT_EQ(r.media[0].layers[0].zTop, ir::kInfinity);
     EXPECT_EQ(r.media[0].layers[1].zBottom, -ir::kInfinity);
-    EXPECT_EQ(r.media[0].layers[0].scatterers[1].phase.backscatterFraction, 0.0183);
+    EXPECT_EQ(r.media[0].layers[0].scatterers[1].phase.params.number("backscatter_fraction"), 0.0183);
 }
 
 TEST(SceneIR, LayerStackMustBeContiguous) {

@@ -47,7 +47,7 @@ TEST_P(CheckerboardRefraction, MatchesAnalyticRayCaster) {
 
         ir::SceneIR s = uniformSkyScene();
         s.render.estimator = estimator;
-        if (!path) s.render.hemisphereSamples = 32;
+        if (!path) s.render.settings.set("hemisphere_samples", 32);
         s.media.push_back(water(0, 0, ref.n));
         s.materials.push_back(material("water", M::Type::Dielectric, M::Solver::Fresnel));
         s.materials.push_back(material("white", M::Type::Lambertian, M::Solver::Classic, 1.0));

@@ -6,9 +6,9 @@
 #include <cmath>
 
 #include "core/frame.h"
+#include "core/phase_functions.h"
 #include "core/rng.h"
 #include "core/units.h"
-#include "render/phase_functions.h"
 #include "render/sampling.h"
 #include "tests/support/chi_square.h"
 
@@ -133,7 +133,7 @@ TEST(ChiSquareHarness, AcceptsCorrectSamplers) {
 
     // 1-D in theta.
     o.seed = 6;
-    const render::HenyeyGreenstein hg{0.5};
+    const HenyeyGreenstein hg{0.5};
     const auto r1 = chi2::testTheta(
         chi2::uniformEdges(0, kPi, 30),
         [&](RandomStream& rs) -> std::optional<double> { return chi2::thetaFromOneMinusCos(hg.sampleOneMinusCos(rs.uniform())); },
@@ -152,7 +152,7 @@ TEST(ChiSquareHarness, RejectsWrongSamplers) {
     o.seed = 7;
     // Henyey-Greenstein sampled with g + 0.02 but judged against the pdf with g.
     for (double g : {0.5, 0.92}) {
-        const render::HenyeyGreenstein pdf{g}, wrong{g + 0.02};
+        const HenyeyGreenstein pdf{g}, wrong{g + 0.02};
         const auto r = chi2::testTheta(
             chi2::forwardPeakedThetaEdges(1e-3, 20, 0.5, 20),
             [&](RandomStream& rs) -> std::optional<double> {

@@ -170,8 +170,8 @@ TEST(InterfaceRadiometry, DropletOverLambertianGroundTestD) {
     const double R = 10.0, n = 1.34, rg = 0.2;
     for (double sigma : {0.02, 0.0}) {
         ir::SceneIR s = uniformSkyScene();
-        s.render.maxBounces = 1;
-        s.render.hemisphereSamples = 64;
+        s.render.settings.set("max_bounces", 1);
+        s.render.settings.set("hemisphere_samples", 64);
         s.media.push_back(water(sigma / 2, sigma / 2, n));
         s.materials.push_back(material("water", M::Type::Dielectric, M::Solver::Fresnel));
         s.materials.push_back(material("ground", M::Type::Lambertian, M::Solver::Generic, rg));
@@ -217,7 +217,7 @@ TEST(InterfaceRadiometry, DropletOverLambertianGroundTestDPathEstimator) {
     const double R = 10.0, n = 1.34, rg = 0.2, sigma = 0.02;
     ir::SceneIR s = uniformSkyScene();
     s.render.estimator = ir::Estimator::Path;
-    s.render.maxBounces = 1;
+    s.render.settings.set("max_bounces", 1);
     s.media.push_back(water(sigma / 2, 0.0, n));
     s.media.back().layers[0].absorption = Spectrum::constant(sigma);  // all of sigma as absorption
     s.materials.push_back(material("water", M::Type::Dielectric, M::Solver::Fresnel));
@@ -310,7 +310,7 @@ TEST(InterfaceRadiometry, RefractedSunOnSubmergedBottom) {
     s.sun.zenith = thS;
     s.sun.azimuth = deg2rad(40);
     s.sun.irradiance = Spectrum::constant(Es);
-    s.render.hemisphereSamples = 4;
+    s.render.settings.set("hemisphere_samples", 4);
     s.media.push_back(water(0.04, 0.06, n));
     s.materials.push_back(material("surface", M::Type::Dielectric, M::Solver::Fresnel));
     s.materials.push_back(material("sand", M::Type::Lambertian, M::Solver::Classic, r));

@@ -73,8 +73,8 @@ TEST(SurfacePM, PlaneUnderSunAndSkyMatchesIrradiance) {
     s.sun.zenith = deg2rad(30);
     s.sun.irradiance = Spectrum::constant(1.0);
     s.sky.radiance = Spectrum::constant(0.1);
-    s.render.surfacePhotons = 400000;
-    s.render.surfaceSearchRadius = 0.15;
+    s.render.settings.set("surface_photons", 400000);
+    s.render.settings.set("surface_search_radius_m", 0.15);
     s.materials.push_back(material("sand", M::Type::Lambertian, M::Solver::SurfacePM, 0.4));
     s.meshes.push_back(meshOf("ground", plane(-3, 3, -3, 3, 0), {"sand"}));
     s.sensors.push_back(ortho("o", {0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 4, 4, 0.5));
@@ -99,8 +99,8 @@ TEST(SurfacePM, BoundaryCompensationAtAnEdge) {
     s.domain = {-1.5, 1.5, -1.5, 1.5, false};
     s.sun.enabled = false;
     s.sky.radiance = Spectrum::constant(1.0 / kPi);
-    s.render.surfacePhotons = 400000;
-    s.render.surfaceSearchRadius = 0.2;
+    s.render.settings.set("surface_photons", 400000);
+    s.render.settings.set("surface_search_radius_m", 0.2);
     s.materials.push_back(material("white", M::Type::Lambertian, M::Solver::SurfacePM, 1.0));
     ir::Material black = material("black", M::Type::Black, M::Solver::Classic);
     s.materials.push_back(black);
@@ -126,7 +126,6 @@ TEST(SurfacePM, BoundaryCompensationAtAnEdge) {
                 pred * covered);
 }
 
-using PT = ir::PhaseFunction::Type;
 
 // Mean of the film over the pixels (i, j) for which keep(i, j).
 template <class Keep> double regionMean(const Film& f, Keep keep, int* count = nullptr) {
@@ -165,15 +164,15 @@ TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
         if (!pm) top.solver.reset();
         s.materials.push_back(floor);
         s.materials.push_back(top);
-        ir::Medium w = water(0.05, 0.25, 1.34, {PT::HenyeyGreenstein, 0.85});
+        ir::Medium w = water(0.05, 0.25, 1.34, {"henyey-greenstein", {{"g", 0.85}}});
         if (pm) {
             w.solver = ir::Medium::Solver::MediumPM;
-            s.render.surfacePhotons = 500000;
-            s.render.volumePhotons = 1000000;
-            s.render.surfaceSearchRadius = 0.2;
-            s.render.volumeSearchRadius = 0.2;
-            s.render.marchStep = 0.5;
-            s.render.progressiveAlpha = 0.98;
+            s.render.settings.set("surface_photons", 500000);
+            s.render.settings.set("volume_photons", 1000000);
+            s.render.settings.set("surface_search_radius_m", 0.2);
+            s.render.settings.set("volume_search_radius_m", 0.2);
+            s.render.settings.set("march_step_m", 0.5);
+            s.render.settings.set("progressive_alpha", 0.98);
         } else {
             s.render.estimator = ir::Estimator::Path;
         }
@@ -259,8 +258,8 @@ TEST(PhotonMapping, TiltedFacetRefractsTheSunWhereSnellSays) {
     s.sun.halfAngle = 1e-4;
     s.sun.irradiance = Spectrum::constant(1.0);
     s.sky.radiance = Spectrum::constant(0.0);
-    s.render.surfacePhotons = 80000;
-    s.render.surfaceSearchRadius = 0.05;
+    s.render.settings.set("surface_photons", 80000);
+    s.render.settings.set("surface_search_radius_m", 0.05);
     s.media.push_back(water(0, 0, n));
     s.materials.push_back(material("surface", M::Type::Dielectric, M::Solver::Fresnel));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
@@ -344,10 +343,10 @@ TEST(PhotonMapping, ProgressiveBiasVanishesAtTheTheoreticalRate) {
     s.domain = {-3, 3, -3, 3, false};
     s.sun.enabled = false;
     s.sky.radiance = Spectrum::constant(1.0 / kPi);
-    s.render.surfacePhotons = photons;
-    s.render.surfaceSearchRadius = r1;
-    s.render.progressiveAlpha = alpha;
-    s.render.progressivePasses = 48;
+    s.render.settings.set("surface_photons", photons);
+    s.render.settings.set("surface_search_radius_m", r1);
+    s.render.settings.set("progressive_alpha", alpha);
+    s.render.settings.set("progressive_passes", 48);
     s.materials.push_back(material("white", M::Type::Lambertian, M::Solver::SurfacePM, 1.0));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.meshes.push_back(meshOf("ground", plane(-30, 30, -30, 30, 0), {"white"}));

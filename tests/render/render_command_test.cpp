@@ -35,7 +35,7 @@ ir::SceneIR snellScene() {
     p.medium = "water";
     p.quantities = {"Ed", "Lu"};
     s.probes.push_back(p);
-    s.render.probeSamples = 4096;
+    s.render.settings.set("probe_samples", 4096);
     return s;
 }
 

@@ -105,7 +105,7 @@ TEST(Sampling, CosineHemisphereMatchesPdf) {
 TEST(Lambertian, WhiteFurnace) {
     for (M::Solver solver : {M::Solver::Classic, M::Solver::Generic}) {
         ir::SceneIR s = uniformSkyScene();
-        s.render.hemisphereSamples = 16;
+        s.render.settings.set("hemisphere_samples", 16);
         s.materials.push_back(material("white", M::Type::Lambertian, solver, 1.0));
         s.meshes.push_back(meshOf("ground", plane(-10, 10, -10, 10, 0), {"white"}));
         s.sensors.push_back(ortho("o", {0, 0, 5}, {0, 0, -1}, {0, 1, 0}, 8, 8, 0.5));
@@ -288,8 +288,8 @@ TEST(Camera, PixelCentreConvention) {
 ir::SceneIR noisyScene() {
     ir::SceneIR s = uniformSkyScene();
     s.render.bands = {Band{0.4, 0.5}, Band{0.5, 0.6}};
-    s.render.hemisphereSamples = 8;
-    s.render.maxBounces = 3;
+    s.render.settings.set("hemisphere_samples", 8);
+    s.render.settings.set("max_bounces", 3);
     s.sun.enabled = true;
     s.sun.zenith = deg2rad(30);
     s.sun.azimuth = deg2rad(20);
@@ -339,7 +339,7 @@ TEST(Determinism, ProgressivePassesDrawTheirOwnSamples) {
     p.name = "p";
     p.position = {-2, -2, 1};
     p.quantities = {"Eu"};  // the ground, box and droplet below: direction sampling is noisy
-    s.render.probeSamples = 64;
+    s.render.settings.set("probe_samples", 64);
     s.probes.push_back(p);
     const Scene scene(s, ".");
     const EstimatorSet pass1(scene, 1), pass2(scene, 2);
@@ -375,7 +375,7 @@ TEST(Probes, IrradiancesAboveBlackGround) {
     s.sun.enabled = true;
     s.sun.zenith = deg2rad(60);
     s.sun.irradiance = Spectrum::constant(2.0);
-    s.render.probeSamples = 256;
+    s.render.settings.set("probe_samples", 256);
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.meshes.push_back(meshOf("ground", plane(-100, 100, -100, 100, 0), {"black"}));
     ir::Probe p;
@@ -482,7 +482,7 @@ TEST(Textured, PlanViewLookupAndOrientation) {
         std::fclose(fp);
     }
     ir::SceneIR s = uniformSkyScene();
-    s.render.hemisphereSamples = 4;
+    s.render.settings.set("hemisphere_samples", 4);
     M m = material("sand", M::Type::Textured, M::Solver::Classic, 0.8);
     m.texture = "classes.pgm";
     m.textureX0 = 0;

@@ -19,7 +19,6 @@ namespace {
 
 using namespace testing;
 using M = ir::Material;
-using PT = ir::PhaseFunction::Type;
 
 ir::Material white(const std::string& name, double r) {
     ir::Material m;
@@ -69,9 +68,9 @@ TEST(PathEstimator, WhiteFurnaceConservesRadiance) {
     const double L = 1.0 / kPi, n = 1.34;
     ir::SceneIR s = uniformSkyScene();
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeBatches = 16;
+    s.render.settings.set("probe_batches", 16);
     s.materials.push_back(white("white-floor", 1.0));
-    addPeriodicSlab(s, water(0.0, 0.6, n, {PT::HenyeyGreenstein, 0.8}), 5.0, 3.0, "white-floor");
+    addPeriodicSlab(s, water(0.0, 0.6, n, {"henyey-greenstein", {{"g", 0.8}}}), 5.0, 3.0, "white-floor");
     ir::Sensor cam = ortho("above", {0.3, 0.2, 10}, {0, 0, -1}, {0, 1, 0}, 8, 8, 0.7);
     cam.samplesPerPixel = 256;
     s.sensors.push_back(cam);
@@ -115,8 +114,8 @@ TEST(Media, BeerLambertPerBandThroughLayers) {
         s.name = "beer";
         s.render.estimator = est;
         s.render.bands = {Band{0.40, 0.45}, Band{0.45, 0.50}, Band{0.50, 0.55}};
-        s.render.probeSamples = 64;
-        s.render.probeBatches = 4;
+        s.render.settings.set("probe_samples", 64);
+        s.render.settings.set("probe_batches", 4);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(40);
         s.sun.azimuth = deg2rad(30);
@@ -201,9 +200,9 @@ TEST(PathEstimator, TwoStreamSlabOverLambertianBottom) {
     ir::SceneIR s = uniformSkyScene();
     s.sky.radiance = Spectrum::constant(Ln);
     s.render.estimator = ir::Estimator::Path;
-    s.render.probeBatches = 16;
+    s.render.settings.set("probe_batches", 16);
     s.materials.push_back(white("bottom", r));
-    addPeriodicSlab(s, water(1 - w0, w0, 1.0, {PT::Isotropic}), 10.0, tauStar, "bottom");
+    addPeriodicSlab(s, water(1 - w0, w0, 1.0, {"isotropic", {}}), 10.0, tauStar, "bottom");
     const std::vector<double> taus = {0.25, 1.0, 1.75};
     for (size_t i = 0; i < taus.size(); ++i)
         s.probes.push_back(probeAt("t" + std::to_string(i), {0.1, 0.2, -taus[i]}, {"Ed", "Eu", "Eod", "Eou"}, 16000));
@@ -301,13 +300,13 @@ TEST(PathEstimator, InstrumentSelfShadingGordonDing) {
         ir::SceneIR s;
         s.name = "self-shading";
         s.render.estimator = ir::Estimator::Path;
-        s.render.probeBatches = 16;
+        s.render.settings.set("probe_batches", 16);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(theta0);
         s.sun.irradiance = Spectrum::constant(1.0);
         s.sky.radiance = Spectrum::constant(0.0);
         s.materials.push_back(blackMaterial("floor"));
-        addPeriodicSlab(s, water(a, b, testing_support::gordon_ding::kWaterIndex, {PT::Petzold}), 10.0, 30.0, "floor");
+        addPeriodicSlab(s, water(a, b, testing_support::gordon_ding::kWaterIndex, {"petzold", {}}), 10.0, 30.0, "floor");
         if (shaded) {
             s.materials.push_back(blackMaterial("instrument"));
             s.meshes.push_back(meshOf("instrument", cylinder(R, -0.001, 0.3, 96), {"instrument"}, "", "", true));
@@ -343,13 +342,13 @@ TEST(PathEstimator, StandardErrorsMatchTheSpreadOverSeeds) {
         s.name = "seeds";
         s.render.estimator = ir::Estimator::Path;
         s.render.seed = 1000 + k;
-        s.render.probeBatches = 16;
+        s.render.settings.set("probe_batches", 16);
         s.sun.enabled = true;
         s.sun.zenith = deg2rad(35);
         s.sun.irradiance = Spectrum::constant(1.0);
         s.sky.radiance = Spectrum::constant(0.05);
         s.materials.push_back(white("sand", 0.3));
-        addPeriodicSlab(s, water(0.2, 0.5, 1.34, {PT::HenyeyGreenstein, 0.9}), 10.0, 4.0, "sand");
+        addPeriodicSlab(s, water(0.2, 0.5, 1.34, {"henyey-greenstein", {{"g", 0.9}}}), 10.0, 4.0, "sand");
         s.probes.push_back(probeAt("p", {0.3, 0.1, -2.0}, quantities, 1600));
         const Scene scene(s, ".");
         const auto v = evaluateProbe(scene, s.probes[0], 0, quiet());

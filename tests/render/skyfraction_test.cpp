@@ -46,10 +46,10 @@ const char* modeName(Mode m) { return m == Mode::Classic ? "Classic" : m == Mode
 // bounce limit 2 (sky fraction plus the neighbours' sky fraction; the neighbours here are black).
 ir::SceneIR skyScene(Mode mode, int N) {
     ir::SceneIR s = uniformSkyScene();
-    s.render.maxBounces = 2;
+    s.render.settings.set("max_bounces", 2);
     if (const char* e = std::getenv("LITTORAL_TEST_SEED")) s.render.seed = std::stoull(e);
     if (mode == Mode::Path) s.render.estimator = ir::Estimator::Path;
-    else s.render.hemisphereSamples = N;
+    else s.render.settings.set("hemisphere_samples", N);
     const M::Solver solver = mode == Mode::Classic ? M::Solver::Classic : M::Solver::Generic;
     ir::Material ground = material("ground", M::Type::Lambertian, solver, 1.0);
     if (mode == Mode::Path) ground.solver.reset();

@@ -93,8 +93,8 @@ TEST(WaterConstituents, CompositionSumsComponents) {
     }
     const auto weights = w.phaseWeightsAt(0.5);
     ASSERT_EQ(weights.size(), 3u);  // CDOM does not scatter
-    EXPECT_EQ(weights[0].second, PhaseSpec::rayleighLike(kMolecularPhaseK));
-    EXPECT_EQ(weights[1].second, PhaseSpec::petzold());
+    EXPECT_EQ(weights[0].second, (ir::PhaseFunction{"rayleigh", {{"k", kMolecularPhaseK}}}));
+    EXPECT_EQ(weights[1].second, (ir::PhaseFunction{"petzold", {}}));
     double sum = 0;
     for (const auto& [bi, p] : weights) sum += bi;
     EXPECT_NEAR(sum / w.scatteringAt(0.5), 1.0, 1e-14);
@@ -172,7 +172,7 @@ TEST(WaterPresets, Table103EntriesMatchPrintedTable) {
             EXPECT_NEAR(cdom->absorption.at(wl[i]), row.cdomA[i], 1e-6) << row.preset << " " << wl[i];
             EXPECT_EQ(cdom->scattering.at(wl[i]), 0.0);
         }
-        EXPECT_EQ(chl->phase, PhaseSpec::henyeyGreenstein(0.88));  // Chapter 10's phase function
+        EXPECT_EQ(chl->phase, (ir::PhaseFunction{"henyey-greenstein", {{"g", 0.88}}}));  // Chapter 10's phase function
     }
 }
 

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/quadrature.h"
 #include "core/units.h"
 
 namespace littoral::testing_support::two_stream {
@@ -131,34 +132,13 @@ public:
     }
 
 private:
-    // 16-point Gauss-Legendre on [-1, 1] (computed once by Newton on P_16).
-    static const std::vector<double>& nodes() { return rule().first; }
-    static const std::vector<double>& weights() { return rule().second; }
-    static const std::pair<std::vector<double>, std::vector<double>>& rule() {
-        static const std::pair<std::vector<double>, std::vector<double>> r = [] {
-            const int n = 16;
-            std::vector<double> x(n), w(n);
-            for (int i = 0; i < n; ++i) {
-                double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 1;
-                for (int it = 0; it < 100; ++it) {
-                    double p0 = 1, p1 = z;
-                    for (int k = 2; k <= n; ++k) {
-                        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                        p0 = p1;
-                        p1 = p2;
-                    }
-                    dp = n * (z * p1 - p0) / (z * z - 1);
-                    const double dz = p1 / dp;
-                    z -= dz;
-                    if (std::abs(dz) < 1e-16) break;
-                }
-                x[static_cast<size_t>(i)] = z;
-                w[static_cast<size_t>(i)] = 2.0 / ((1 - z * z) * dp * dp);
-            }
-            return std::make_pair(x, w);
-        }();
+    // 16-point Gauss-Legendre on [-1, 1] (core/quadrature.h), computed once.
+    static const GaussLegendre& rule() {
+        static const GaussLegendre r(16);
         return r;
     }
+    static const std::vector<double>& nodes() { return rule().x; }
+    static const std::vector<double>& weights() { return rule().w; }
 
     Params p_;
     double rb_ = 0, gamma_ = 0, rho_ = 0, a_ = 0, d_ = 0;

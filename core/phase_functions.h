@@ -31,9 +31,10 @@
 #include <variant>
 #include <vector>
 
+#include "core/kinds.h"
 #include "core/vec.h"
 
-namespace littoral::render {
+namespace littoral {
 
 // p = 1 / (4 pi).
 struct IsotropicPhase {
@@ -195,8 +196,9 @@ private:
 };
 
 // Petzold's average-particle phase function (San Diego Harbor), Mobley et al. (1993) Table 2, as
-// given in spec/reference-data.md: linear interpolation in psi, value(0.12589 deg) x
-// (0.12589/psi)^1.346 below 0.12589 deg. Built once; every call returns the same table.
+// given in spec/reference-data.md, interpolated log-log (ln value linear in ln psi) between its
+// rows, value(0.12589 deg) x (0.12589/psi)^1.346 below 0.12589 deg. Built once; every call
+// returns the same table.
 std::shared_ptr<const TabulatedPhase> petzoldAverageParticleTable();
 TabulatedPhase petzoldAverageParticle();
 
@@ -254,4 +256,25 @@ private:
     int count_ = 0;
 };
 
-}  // namespace littoral::render
+// ---- the phase-function kinds -----------------------------------------------------------------
+// Each kind a scene file or an IR can name ("isotropic", "henyey-greenstein", "petzold",
+// "fournier-forand", "rayleigh"), described once in phase_functions.cpp beside its implementation:
+// its parameters (name, default or required, the one range, unit, doc) and its factory. The
+// scene-file parser, the IR writer and reader, docs/scene-format.md (checked by a test) and the
+// renderer's media all read these descriptors.
+struct PhaseKind {
+    KindInfo info;  // family "phase function"
+    PhaseFunction (*make)(const ParamValues& resolved);
+};
+inline const KindInfo& kindInfo(const PhaseKind& k) { return k.info; }
+
+const KindRegistry<PhaseKind>& phaseFunctionKinds();
+
+// The phase function of kind `type` with parameters `params` (e.g. an IR scatterer's), after
+// checking both against the descriptor. InputError "{who}: ..." on an unknown type or a missing,
+// unknown, mistyped or out-of-range parameter.
+PhaseFunction makePhaseFunction(std::string_view type, const ParamValues& params, const std::string& who);
+// The same check; returns every parameter of the kind, defaults filled in, in descriptor order.
+ParamValues resolvePhaseParams(std::string_view type, const ParamValues& params, const std::string& who);
+
+}  // namespace littoral

@@ -1,6 +1,6 @@
 // Phase functions: chi-square of every sampler against its own pdf, normalisation over the
 // sphere, and the published or closed-form numbers each one must reproduce.
-#include "render/phase_functions.h"
+#include "core/phase_functions.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,6 @@
 #include "tests/support/chi_square.h"
 
 using namespace littoral;
-using namespace littoral::render;
 namespace chi2 = littoral::testing_support::chi2;
 
 namespace {

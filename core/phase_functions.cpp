@@ -1,4 +1,4 @@
-#include "render/phase_functions.h"
+#include "core/phase_functions.h"
 
 #include <fmt/format.h>
 
@@ -9,9 +9,10 @@
 
 #include "core/error.h"
 #include "core/frame.h"
+#include "core/quadrature.h"
 #include "core/units.h"
 
-namespace littoral::render {
+namespace littoral {
 
 namespace {
 
@@ -20,37 +21,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kGuessLogLo = -37.0;  // ~ ln 2^-53: the smallest sampling target u or 1 - u
 
 double clamp01(double u) { return std::clamp(u, 0.0, 1.0); }
-
-// Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n; exact to rounding).
-struct GaussLegendre {
-    std::vector<double> x, w;
-    explicit GaussLegendre(int n) : x(static_cast<size_t>(n)), w(static_cast<size_t>(n)) {
-        for (int i = 0; i < n; ++i) {
-            double z = std::cos(kPi * (i + 0.75) / (n + 0.5));
-            double dp = 1;
-            for (int it = 0; it < 100; ++it) {
-                double p0 = 1, p1 = z;
-                for (int k = 2; k <= n; ++k) {
-                    const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n * (z * p1 - p0) / (z * z - 1);
-                const double dz = p1 / dp;
-                z -= dz;
-                if (std::abs(dz) < 1e-16) break;
-            }
-            x[static_cast<size_t>(i)] = z;
-            w[static_cast<size_t>(i)] = 2.0 / ((1 - z * z) * dp * dp);
-        }
-    }
-    template <class F> double integrate(F&& f, double a, double b) const {
-        const double m = 0.5 * (a + b), h = 0.5 * (b - a);
-        double s = 0;
-        for (size_t i = 0; i < x.size(); ++i) s += w[i] * f(m + h * x[i]);
-        return s * h;
-    }
-};
 
 const GaussLegendre& gauss20() {
     static const GaussLegendre g(20);
@@ -88,6 +58,13 @@ double IsotropicPhase::sampleOneMinusCos(double u) const { return 2.0 * (1.0 - c
 double IsotropicPhase::invertCos(double c) const { return 0.5 * (1.0 + std::clamp(c, -1.0, 1.0)); }
 double IsotropicPhase::forwardConeFraction(double c0) const { return 0.5 * (1.0 - std::clamp(c0, -1.0, 1.0)); }
 double IsotropicPhase::forwardFraction(double t) const { return 0.5 * std::clamp(t, 0.0, 2.0); }
+
+namespace {
+PhaseKind isotropicKind() {
+    return {{"phase function", "isotropic", "the same in every direction, p = 1 / (4 pi)", {}},
+            [](const ParamValues&) { return PhaseFunction::isotropic(); }};
+}
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Henyey-Greenstein
@@ -163,6 +140,15 @@ double HenyeyGreenstein::forwardFraction(double t) const {
     return (1.0 + g) * t / (sq * (1.0 - g + sq));
 }
 
+namespace {
+// |g| up to 0.999: the sampler is free of cancellation there (phase_functions.h).
+PhaseKind henyeyGreensteinKind() {
+    return {{"phase function", "henyey-greenstein", "Henyey and Greenstein (1941), one forward (g > 0) or backward lobe",
+             {{"g", "", ParamType::Real, std::nullopt, -0.999, 0.999, "", "asymmetry parameter (mean cosine)"}}},
+            [](const ParamValues& v) { return PhaseFunction::henyeyGreenstein(v.number("g")); }};
+}
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Rayleigh-like
 
@@ -196,6 +182,21 @@ double RayleighLikePhase::forwardFraction(double t) const {
     const double c = 1.0 - t;
     return t * (3.0 + k * (1.0 + c + c * c)) / (2.0 * (3.0 + k));
 }
+
+namespace {
+// k = (1 - rho) / (1 + rho) for depolarisation ratio rho in [0, 1]: k in [0, 1].
+constexpr double kRayleighKMin = 0.0, kRayleighKMax = 1.0;
+PhaseKind rayleighKind() {
+    return {{"phase function", "rayleigh",
+             "Rayleigh-like, p proportional to 1 + k cos^2 (k = 1: Mobley et al. 1993 problem 1; 0.835: molecular water)",
+             {{"k", "", ParamType::Real, 1.0, kRayleighKMin, kRayleighKMax, "",
+               "the cos^2 coefficient (Morel 1974: 0.835 for pure water)"}}},
+            [](const ParamValues& v) {
+                const double k = v.number("k");
+                return k == 1.0 ? PhaseFunction::rayleighLike() : PhaseFunction::molecularWater(k);
+            }};
+}
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Fournier-Forand
@@ -413,6 +414,18 @@ double FournierForand::sampleCos(double u) const {
     return std::clamp(1.0 - t, -1.0, 1.0);
 }
 
+namespace {
+// From B = 0.002 (slope mu = 3.11 at n = 1.10, the most forward-peaked function whose cumulative
+// distribution resolves in double precision; fromBackscatterFraction) to just below 1/2.
+PhaseKind fournierForandKind() {
+    return {{"phase function", "fournier-forand",
+             "Fournier and Forand (1994) in the form of Mobley et al. (2002), particle index n = 1.10",
+             {{"backscatter_fraction", "", ParamType::Real, std::nullopt, 0.002, 0.4999, "",
+               "B = b_b / b, the fraction scattered backward"}}},
+            [](const ParamValues& v) { return PhaseFunction::fournierForand(v.number("backscatter_fraction")); }};
+}
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Tabulated
 
@@ -584,6 +597,14 @@ std::shared_ptr<const TabulatedPhase> petzoldAverageParticleTable() {
 
 TabulatedPhase petzoldAverageParticle() { return *petzoldAverageParticleTable(); }
 
+namespace {
+PhaseKind petzoldKind() {
+    return {{"phase function", "petzold", "Petzold's average particle (San Diego Harbor), Mobley et al. (1993) Table 2",
+             {}},
+            [](const ParamValues&) { return PhaseFunction::petzold(); }};
+}
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // PhaseFunction
 
@@ -636,8 +657,9 @@ PhaseFunction PhaseFunction::henyeyGreenstein(double g) {
 PhaseFunction PhaseFunction::rayleighLike() { return PhaseFunction(Component{RayleighLikePhase{1.0}}); }
 
 PhaseFunction PhaseFunction::molecularWater(double k) {
-    if (!(k >= 0.0 && k <= 10.0))
-        throw InputError(fmt::format("molecular phase function coefficient k = {} is outside the allowed range [0, 10]", k));
+    if (!(k >= kRayleighKMin && k <= kRayleighKMax))
+        throw InputError(fmt::format("molecular phase function coefficient k = {} is outside the allowed range [{}, {}]", k,
+                                     kRayleighKMin, kRayleighKMax));
     return PhaseFunction(Component{RayleighLikePhase{k}});
 }
 
@@ -764,4 +786,29 @@ std::string PhaseFunction::describe() const {
     return s;
 }
 
-}  // namespace littoral::render
+// ---------------------------------------------------------------------------------------------
+// The phase-function kinds: one registration line per kind.
+
+const KindRegistry<PhaseKind>& phaseFunctionKinds() {
+    static const KindRegistry<PhaseKind> registry = [] {
+        KindRegistry<PhaseKind> r("phase function");
+        r.add(isotropicKind());
+        r.add(henyeyGreensteinKind());
+        r.add(petzoldKind());
+        r.add(fournierForandKind());
+        r.add(rayleighKind());
+        return r;
+    }();
+    return registry;
+}
+
+ParamValues resolvePhaseParams(std::string_view type, const ParamValues& params, const std::string& who) {
+    return resolveParams(phaseFunctionKinds().get(type, who).info, params, who);
+}
+
+PhaseFunction makePhaseFunction(std::string_view type, const ParamValues& params, const std::string& who) {
+    const PhaseKind& kind = phaseFunctionKinds().get(type, who);
+    return kind.make(resolveParams(kind.info, params, who));
+}
+
+}  // namespace littoral

@@ -1,0 +1,364 @@
+// The kind descriptors against everything that reads them: for every registered kind of every
+// family (phase functions, estimators, probe quantities), each documented parameter is accepted by the scene-file
+// parser at its default and at both ends of its range, refused just outside with a located error
+// naming the range, round-trips through the Scene IR, and is range-checked by the renderer's
+// factory alike; unknown names get a did-you-mean; docs/scene-format.md lists exactly the
+// registered parameters with their ranges.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/kinds.h"
+#include "core/phase_functions.h"
+#include "core/probe_quantities.h"
+#include "core/scene_ir.h"
+#include "render/estimator.h"
+#include "render/estimator_settings.h"
+#include "scenegen/scene_file.h"
+#include "scenegen/yaml_reader.h"
+
+using namespace littoral;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The values to try for a parameter: its default and the ends of its range (accepted), and just
+// outside each end (refused). Booleans have no outside.
+struct Trial {
+    std::string text;
+    ParamValue value;
+};
+std::vector<Trial> insideValues(const ParamSpec& p) {
+    std::vector<Trial> v;
+    if (p.type == ParamType::Boolean) return {{"true", true}, {"false", false}};
+    auto add = [&](double x) {
+        if (p.type == ParamType::Integer) v.push_back({fmt::format("{}", static_cast<long long>(x)), static_cast<int64_t>(x)});
+        else v.push_back({fmt::format("{}", x), x});
+    };
+    if (p.defaultValue) add(*p.defaultValue);
+    add(p.lo);
+    add(p.hi);
+    return v;
+}
+std::vector<std::string> outsideTexts(const ParamSpec& p) {
+    if (p.type == ParamType::Boolean) return {"2"};
+    if (p.type == ParamType::Integer)
+        return {fmt::format("{}", static_cast<long long>(p.lo) - 1), fmt::format("{}", static_cast<long long>(p.hi) + 1)};
+    const double d = 1e-6 * std::max(1.0, p.hi - p.lo);
+    return {fmt::format("{}", p.lo - d), fmt::format("{}", p.hi + d)};
+}
+
+scenegen::SceneSpec parse(const std::string& text) {
+    return scenegen::parseScene(scenegen::YamlNode::loadString(text, "kinds.yaml"), "kinds.yaml");
+}
+
+// The message of the InputError parsing `text` throws ("" if none), with its location.
+std::string parseError(const std::string& text, SourceLoc* where = nullptr) {
+    try {
+        (void)parse(text);
+    } catch (const InputError& e) {
+        if (where) *where = e.where();
+        return e.message();
+    }
+    return "";
+}
+
+std::string phaseScene(const std::string& phase) {
+    return "scene: {name: kinds}\nrender: {estimator: path}\nwater:\n  optics:\n    scattering_per_m: 0.1\n"
+           "    phase: " +
+           phase + "\n";
+}
+
+std::string phaseText(const PhaseKind& k, const std::string& param, const std::string& value) {
+    std::string s = "{type: " + k.info.name;
+    for (const ParamSpec& p : k.info.params) {
+        if (p.name == param) s += ", " + p.name + ": " + value;
+        else if (!p.defaultValue) s += ", " + p.name + ": " + fmt::format("{}", p.lo);
+    }
+    return s + "}";
+}
+
+ir::SceneIR irOf(const scenegen::SceneSpec& spec) {
+    ir::SceneIR ir;
+    scenegen::applyCommonSections(spec, &ir);
+    return ir;
+}
+
+// Writes, reads and writes again: byte-identical text, and the IR read back.
+ir::SceneIR roundTrip(const ir::SceneIR& ir) {
+    const std::string text = ir::toJsonText(ir);
+    ir::SceneIR back = ir::fromJsonText(text, "scene.json");
+    EXPECT_EQ(ir::toJsonText(back), text);
+    return back;
+}
+
+}  // namespace
+
+TEST(KindDescriptors, PhaseFunctionParametersMatchTheParserAndTheIr) {
+    ASSERT_FALSE(phaseFunctionKinds().empty());
+    for (const PhaseKind& k : phaseFunctionKinds().kinds()) {
+        SCOPED_TRACE(k.info.name);
+        EXPECT_EQ(k.info.family, "phase function");
+        EXPECT_FALSE(k.info.doc.empty());
+        // Every kind parses with only its required parameters, and builds.
+        {
+            const auto spec = parse(phaseScene(phaseText(k, "", "")));
+            const ir::PhaseFunction& ph = spec.waterOptics.iops.scatterers.at(0).phase;
+            EXPECT_EQ(ph.type, k.info.name);
+            EXPECT_EQ(ph.params.size(), k.info.params.size());  // defaults filled in
+            const ir::SceneIR back = roundTrip(irOf(spec));
+            EXPECT_EQ(back.media.at(0).layers.at(0).scatterers.at(0).phase, ph);
+            EXPECT_NO_THROW(makePhaseFunction(ph.type, ph.params, "test"));
+        }
+        for (const ParamSpec& p : k.info.params) {
+            SCOPED_TRACE(p.name);
+            EXPECT_FALSE(p.doc.empty());
+            for (const Trial& t : insideValues(p)) {
+                const auto spec = parse(phaseScene(phaseText(k, p.name, t.text)));
+                const ir::PhaseFunction& ph = spec.waterOptics.iops.scatterers.at(0).phase;
+                ASSERT_NE(ph.params.find(p.name), nullptr);
+                EXPECT_EQ(numberOf(*ph.params.find(p.name)), numberOf(t.value)) << t.text;
+                const ir::SceneIR back = roundTrip(irOf(spec));
+                EXPECT_EQ(back.media.at(0).layers.at(0).scatterers.at(0).phase, ph) << t.text;
+            }
+            for (const std::string& out : outsideTexts(p)) {
+                SourceLoc where;
+                const std::string msg = parseError(phaseScene(phaseText(k, p.name, out)), &where);
+                EXPECT_NE(msg.find("out of range; allowed " + p.rangeText()), std::string::npos) << out << ": " << msg;
+                EXPECT_EQ(where.file, "kinds.yaml");
+                EXPECT_EQ(where.line, 6) << msg;
+                // The renderer's factory (a hand-edited IR) checks the same range.
+                ParamValues given;
+                given.set(p.name, std::stod(out));
+                for (const ParamSpec& q : k.info.params)
+                    if (q.name != p.name && !q.defaultValue) given.set(q.name, q.lo);
+                try {
+                    (void)makePhaseFunction(k.info.name, given, "media[0]");
+                    ADD_FAILURE() << "the factory accepted " << out;
+                } catch (const InputError& e) {
+                    EXPECT_NE(std::string(e.what()).find("allowed " + p.rangeText()), std::string::npos) << e.what();
+                }
+            }
+            if (!p.defaultValue) {
+                const std::string msg = parseError(phaseScene("{type: " + k.info.name + "}"));
+                EXPECT_NE(msg.find(p.name), std::string::npos) << msg;
+            }
+        }
+    }
+}
+
+TEST(KindDescriptors, UnknownPhaseFunctionGetsADidYouMean) {
+    const std::string msg = parseError(phaseScene("{type: henyey-greenstien, g: 0.5}"));
+    EXPECT_NE(msg.find("did you mean 'henyey-greenstein'"), std::string::npos) << msg;
+    // A parameter of another kind names the kind it belongs to.
+    EXPECT_NE(parseError(phaseScene("{type: isotropic, g: 0.5}")).find("only used by the henyey-greenstein"),
+              std::string::npos);
+    // The IR reader and the factory give the same did-you-mean.
+    auto spec = parse(phaseScene("{type: petzold}"));
+    std::string text = ir::toJsonText(irOf(spec));
+    text.replace(text.find("\"petzold\""), 9, "\"petzld\"");
+    try {
+        (void)ir::fromJsonText(text, "scene.json");
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("did you mean 'petzold'"), std::string::npos) << e.what();
+    }
+    try {
+        (void)makePhaseFunction("rayleight", {}, "x");
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("did you mean 'rayleigh'"), std::string::npos) << e.what();
+    }
+}
+
+namespace {
+
+std::string renderScene(const std::string& estimator, const std::string& sceneKey, const std::string& value) {
+    std::string r = "scene: {name: kinds}\nrender:\n  estimator: " + estimator + "\n";
+    const size_t dot = sceneKey.find('.');
+    if (dot == std::string::npos) r += "  " + sceneKey + ": " + value + "\n";
+    else r += "  " + sceneKey.substr(0, dot) + ":\n    " + sceneKey.substr(dot + 1) + ": " + value + "\n";
+    return r;
+}
+
+// An IR in which the estimator reads every setting it declares: for dirsig, a surface-pm material
+// and a medium-pm medium with both photon counts set.
+ir::SceneIR readingEverything(const KindInfo& estimator) {
+    ir::SceneIR s;
+    s.render.estimator = *parseName<ir::Estimator>(estimator.name);
+    if (estimator.name == "dirsig") {
+        ir::Material m;
+        m.name = "sand";
+        m.solver = ir::Material::Solver::SurfacePM;
+        s.materials.push_back(m);
+        ir::Medium w = ir::Medium::homogeneous("water", 1.34, Spectrum::constant(0.1), Spectrum::constant(0.1));
+        w.solver = ir::Medium::Solver::MediumPM;
+        s.media.push_back(w);
+        s.render.settings.set("surface_photons", 1000);
+        s.render.settings.set("volume_photons", 1000);
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST(KindDescriptors, EstimatorSettingsMatchTheParserTheIrAndMakeRenderConfig) {
+    render::registerEstimatorKinds();
+    ASSERT_EQ(estimatorKinds().names(), allNames<ir::Estimator>());
+    for (const KindInfo& k : estimatorKinds().kinds()) {
+        SCOPED_TRACE(k.name);
+        EXPECT_FALSE(k.doc.empty());
+        EXPECT_NO_THROW(render::makeRenderConfig(readingEverything(k)));
+        for (const ParamSpec& p : k.params) {
+            SCOPED_TRACE(p.sceneName());
+            EXPECT_FALSE(p.doc.empty());
+            // One range per setting: every estimator that declares it declares the same one.
+            for (const ParamSpec* q : allRenderSettings())
+                if (q->name == p.name) EXPECT_EQ(q->rangeText(), p.rangeText());
+            for (const Trial& t : insideValues(p)) {
+                const auto spec = parse(renderScene(k.name, p.sceneName(), t.text));
+                const ParamValue* v = spec.render.settings.settings.find(p.name);
+                ASSERT_NE(v, nullptr) << t.text;
+                EXPECT_EQ(*v, t.value) << t.text;
+                EXPECT_EQ(spec.render.settings.locations.count(p.sceneName()), 1u);
+                const ir::SceneIR back = roundTrip(irOf(spec));
+                ASSERT_NE(back.render.settings.find(p.name), nullptr);
+                EXPECT_EQ(numberOf(*back.render.settings.find(p.name)), numberOf(t.value));
+            }
+            for (const std::string& out : outsideTexts(p)) {
+                SourceLoc where;
+                const std::string msg = parseError(renderScene(k.name, p.sceneName(), out), &where);
+                if (p.type == ParamType::Boolean) EXPECT_NE(msg.find("expected true or false"), std::string::npos) << msg;
+                else EXPECT_NE(msg.find("out of range; allowed " + p.rangeText()), std::string::npos) << out << ": " << msg;
+                EXPECT_EQ(where.line, p.sceneName().find('.') == std::string::npos ? 4 : 5) << msg;
+                if (p.type == ParamType::Boolean) continue;
+                // makeRenderConfig refuses the same value in a hand-edited IR.
+                ir::SceneIR s = readingEverything(k);
+                if (p.type == ParamType::Integer) s.render.settings.set(p.name, std::stoll(out));
+                else s.render.settings.set(p.name, std::stod(out));
+                try {
+                    (void)render::makeRenderConfig(s);
+                    ADD_FAILURE() << "makeRenderConfig accepted " << out;
+                } catch (const InputError& e) {
+                    EXPECT_NE(std::string(e.what()).find("render." + p.name + ": " + out + " is out of range; allowed " +
+                                                         p.rangeText()),
+                              std::string::npos)
+                        << e.what();
+                }
+            }
+        }
+    }
+}
+
+TEST(KindDescriptors, UnknownRenderSettingGetsADidYouMean) {
+    render::registerEstimatorKinds();
+    const std::string a = parseError("scene: {name: kinds}\nrender: {march_step: 0.1}\n");
+    EXPECT_NE(a.find("did you mean 'march_step_m'"), std::string::npos) << a;
+    const std::string b = parseError("scene: {name: kinds}\nrender: {photons: {surfac: 10}}\n");
+    EXPECT_NE(b.find("did you mean 'surface'"), std::string::npos) << b;
+    ir::SceneIR s;
+    s.render.settings.set("probe_sample", 100);
+    try {
+        (void)render::makeRenderConfig(s);
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("did you mean 'probe_samples'"), std::string::npos) << e.what();
+    }
+}
+
+namespace {
+
+// The rows of the table after "<!-- descriptor table: FAMILY -->" in docs/scene-format.md, each
+// split into its cells (backticks removed).
+std::vector<std::vector<std::string>> docsTable(const std::string& family) {
+    std::ifstream in(fs::path(LITTORAL_SOURCE_DIR) / "docs" / "scene-format.md");
+    std::string line;
+    bool inside = false;
+    std::vector<std::vector<std::string>> rows;
+    while (std::getline(in, line)) {
+        if (line == "<!-- descriptor table: " + family + " -->") {
+            inside = true;
+            continue;
+        }
+        if (!inside) continue;
+        if (line.rfind("|", 0) != 0) break;
+        std::vector<std::string> cells;
+        size_t pos = 1;
+        for (size_t bar; (bar = line.find('|', pos)) != std::string::npos; pos = bar + 1) {
+            std::string c = line.substr(pos, bar - pos);
+            std::erase(c, '`');
+            while (!c.empty() && c.front() == ' ') c.erase(0, 1);
+            while (!c.empty() && c.back() == ' ') c.pop_back();
+            cells.push_back(c);
+        }
+        if (cells.size() >= 3 && cells[0] != "type" && cells[0] != "key" && cells[0] != "quantity" &&
+            cells[0].rfind("---", 0) != 0)
+            rows.push_back(cells);
+    }
+    return rows;
+}
+
+}  // namespace
+
+TEST(KindDescriptors, DocsListExactlyTheRegisteredParameters) {
+    // Phase functions: one row per parameter (or one row "—" for a kind without any), with the
+    // descriptor's range.
+    std::set<std::pair<std::string, std::string>> documented, registered;
+    for (const auto& row : docsTable("phase function")) {
+        documented.insert({row[0], row[1]});
+        if (row[1] == "—") continue;
+        const PhaseKind* k = phaseFunctionKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        const ParamSpec* p = k->info.param(row[1]);
+        ASSERT_NE(p, nullptr) << row[0] << " " << row[1];
+        EXPECT_EQ(row[3], p->rangeText()) << row[0] << " " << row[1];
+        EXPECT_EQ(row[2] == "required", !p->defaultValue) << row[0] << " " << row[1];
+    }
+    for (const PhaseKind& k : phaseFunctionKinds().kinds()) {
+        if (k.info.params.empty()) registered.insert({k.info.name, "—"});
+        for (const ParamSpec& p : k.info.params) registered.insert({k.info.name, p.name});
+    }
+    EXPECT_EQ(documented, registered);
+
+    // Estimator settings: one row per scene-file key, with the one range.
+    render::registerEstimatorKinds();
+    std::set<std::string> keys, declared;
+    for (const auto& row : docsTable("estimator")) {
+        keys.insert(row[0]);
+        for (const ParamSpec* p : allRenderSettings())
+            if (p->sceneName() == row[0]) EXPECT_EQ(row[3], p->rangeText()) << row[0];
+    }
+    for (const ParamSpec* p : allRenderSettings()) declared.insert(p->sceneName());
+    EXPECT_EQ(keys, declared);
+
+    // Probe quantities: one row each.
+    std::vector<std::string> quantities;
+    for (const auto& row : docsTable("probe quantity")) quantities.push_back(row[0]);
+    EXPECT_EQ(quantities, probeQuantityKinds().names());
+}
+
+TEST(KindDescriptors, ProbeQuantitiesMatchTheParserAndTheRenderer) {
+    render::registerEstimatorKinds();
+    ASSERT_FALSE(probeQuantityKinds().empty());
+    for (const KindInfo& k : probeQuantityKinds().kinds()) {
+        SCOPED_TRACE(k.name);
+        EXPECT_EQ(k.family, "probe quantity");
+        EXPECT_FALSE(k.doc.empty());
+        EXPECT_TRUE(k.params.empty());
+        const auto spec = parse("scene: {name: kinds}\nprobes:\n  - {name: p, position: [0, 0, 1], quantities: [" + k.name +
+                                "]}\n");
+        const ir::SceneIR back = roundTrip(irOf(spec));
+        EXPECT_EQ(back.probes.at(0).quantities, std::vector<std::string>{k.name});
+    }
+    const std::string msg =
+        parseError("scene: {name: kinds}\nprobes:\n  - {name: p, position: [0, 0, 1], quantities: [Eud]}\n");
+    EXPECT_NE(msg.find("did you mean"), std::string::npos) << msg;
+}
