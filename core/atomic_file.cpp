@@ -311,6 +311,7 @@ bool processRuns(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 
 }  // namespace
 
 OutputFolderLock::OutputFolderLock(const fs::path& dir, std::string_view option) {
+    checkOutputFolder(dir, option);  // the same messages as before any work (a file in the way, read-only)
     createOutputFolder(dir, option);
     path_ = (dir.empty() ? fs::path(".") : dir).string() + "/" + kFileName;
     const std::string prefix = option.empty() ? std::string() : std::string(option) + ": ";

@@ -99,6 +99,66 @@ Json phaseJson(const PhaseFunction& p) {
 
 }  // namespace
 
+namespace {
+
+Json mediumJson(const Medium& m) {
+    Json layers = Json::array();
+    for (const auto& l : m.layers) {
+        Json sc = Json::array();
+        for (const auto& c : l.scatterers)
+            sc.push_back({{"name", c.name}, {"scattering_per_m", spectrumJson(c.scattering)}, {"phase", phaseJson(c.phase)}});
+        layers.push_back({{"z_top_m", boundJson(l.zTop)},
+                          {"z_bottom_m", boundJson(l.zBottom)},
+                          {"absorption_per_m", spectrumJson(l.absorption)},
+                          {"scatterers", sc}});
+    }
+    Json mj = {{"name", m.name}, {"refractive_index", spectrumJson(m.refractiveIndex)}, {"layers", layers}};
+    if (m.solver) mj["solver"] = nm(*m.solver);
+    return mj;
+}
+
+Json materialJson(const Material& m) {
+    Json mj = {{"name", m.name}, {"type", nm(m.type)}};
+    if (m.solver) mj["solver"] = nm(*m.solver);
+    mj["reflectance"] = spectrumJson(m.reflectance);
+    if (m.type == Material::Type::Textured)
+        mj["texture"] = {{"file", m.texture},
+                         {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
+    if (m.type == Material::Type::Classified)
+        mj["class_map"] = {{"file", m.texture},
+                           {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})},
+                           {"classes", m.classMaterials}};
+    if (m.type == Material::Type::RoughDielectric) {
+        mj["wind_speed_mps"] = m.windSpeed;
+        mj["wind_azimuth_rad"] = m.windAzimuth;
+        mj["sea"] = nm(m.sea);
+        mj["gram_charlier"] = m.gramCharlier;
+        mj["shadowing"] = nm(m.shadowing);
+    }
+    return mj;
+}
+
+Json sensorJson(const Sensor& c) {
+    Json cj = {{"name", c.name},
+               {"type", nm(c.type)},
+               {"position_m", vecJson(c.position)},
+               {"forward", vecJson(c.forward)},
+               {"up", vecJson(c.up)},
+               {"width", c.width},
+               {"height", c.height}};
+    if (c.type == Sensor::Type::Pinhole) {
+        cj["focal_length_m"] = c.focalLength;
+        cj["pixel_pitch_m"] = c.pixelPitch;
+    } else {
+        cj["pixel_size_m"] = c.pixelSize;
+    }
+    cj["samples_per_pixel"] = c.samplesPerPixel;
+    cj["medium"] = c.medium;
+    return cj;
+}
+
+}  // namespace
+
 std::string toJsonText(const SceneIR& s) {
     Json j;
     j["format"] = "littoral-scene-ir";
@@ -126,44 +186,11 @@ std::string toJsonText(const SceneIR& s) {
     j["sky"] = {{"radiance", spectrumJson(s.sky.radiance)}};
 
     Json media = Json::array();
-    for (const auto& m : s.media) {
-        Json layers = Json::array();
-        for (const auto& l : m.layers) {
-            Json sc = Json::array();
-            for (const auto& c : l.scatterers)
-                sc.push_back({{"name", c.name}, {"scattering_per_m", spectrumJson(c.scattering)}, {"phase", phaseJson(c.phase)}});
-            layers.push_back({{"z_top_m", boundJson(l.zTop)},
-                              {"z_bottom_m", boundJson(l.zBottom)},
-                              {"absorption_per_m", spectrumJson(l.absorption)},
-                              {"scatterers", sc}});
-        }
-        Json mj = {{"name", m.name}, {"refractive_index", spectrumJson(m.refractiveIndex)}, {"layers", layers}};
-        if (m.solver) mj["solver"] = nm(*m.solver);
-        media.push_back(mj);
-    }
+    for (const auto& m : s.media) media.push_back(mediumJson(m));
     j["media"] = media;
 
     Json mats = Json::array();
-    for (const auto& m : s.materials) {
-        Json mj = {{"name", m.name}, {"type", nm(m.type)}};
-        if (m.solver) mj["solver"] = nm(*m.solver);
-        mj["reflectance"] = spectrumJson(m.reflectance);
-        if (m.type == Material::Type::Textured)
-            mj["texture"] = {{"file", m.texture},
-                             {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
-        if (m.type == Material::Type::Classified)
-            mj["class_map"] = {{"file", m.texture},
-                               {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})},
-                               {"classes", m.classMaterials}};
-        if (m.type == Material::Type::RoughDielectric) {
-            mj["wind_speed_mps"] = m.windSpeed;
-            mj["wind_azimuth_rad"] = m.windAzimuth;
-            mj["sea"] = nm(m.sea);
-            mj["gram_charlier"] = m.gramCharlier;
-            mj["shadowing"] = nm(m.shadowing);
-        }
-        mats.push_back(mj);
-    }
+    for (const auto& m : s.materials) mats.push_back(materialJson(m));
     j["materials"] = mats;
 
     Json meshes = Json::array();
@@ -184,24 +211,7 @@ std::string toJsonText(const SceneIR& s) {
     j["instances"] = inst;
 
     Json sensors = Json::array();
-    for (const auto& c : s.sensors) {
-        Json cj = {{"name", c.name},
-                   {"type", nm(c.type)},
-                   {"position_m", vecJson(c.position)},
-                   {"forward", vecJson(c.forward)},
-                   {"up", vecJson(c.up)},
-                   {"width", c.width},
-                   {"height", c.height}};
-        if (c.type == Sensor::Type::Pinhole) {
-            cj["focal_length_m"] = c.focalLength;
-            cj["pixel_pitch_m"] = c.pixelPitch;
-        } else {
-            cj["pixel_size_m"] = c.pixelSize;
-        }
-        cj["samples_per_pixel"] = c.samplesPerPixel;
-        cj["medium"] = c.medium;
-        sensors.push_back(cj);
-    }
+    for (const auto& c : s.sensors) sensors.push_back(sensorJson(c));
     j["sensors"] = sensors;
 
     Json probes = Json::array();
@@ -366,6 +376,219 @@ PhaseFunction readPhase(const JReader& ph) {
 
 }  // namespace
 
+namespace {
+
+// The render section: bands, seed, threads, estimator, and the optional settings kept generically
+// (their keys, types and ranges belong to the estimators, which check them:
+// render::makeRenderConfig); each keeps its JSON type and order.
+void readRender(const JReader& rr, RenderSettings* out) {
+    RenderSettings& r = *out;
+    if (!rr.json().is_object()) rr.fail("expected an object");
+    r.bands.clear();
+    auto bands = rr["bands_um"];
+    for (size_t i = 0; i < bands.size(); ++i) {
+        const auto v = bands.at(i).nums();
+        if (v.size() != 2 || !(v[1] > v[0]) || v[0] <= 0) bands.at(i).fail("expected [lo, hi] with 0 < lo < hi");
+        r.bands.push_back({v[0], v[1]});
+    }
+    r.seed = rr["seed"].uinteger();
+    r.threads = static_cast<int>(rr["threads"].integer());
+    r.estimator = rr["estimator"].choice<Estimator>();
+    for (auto it = rr.json().begin(); it != rr.json().end(); ++it) {
+        const std::string& k = it.key();
+        if (k == "bands_um" || k == "seed" || k == "threads" || k == "estimator") continue;
+        r.settings.set(k, rr[k].anyParam());
+    }
+}
+
+void readDomain(const JReader& d, Domain* out) {
+    Domain& dom = *out;
+    d.expectKeys({"x_m", "y_m", "horizontal"});
+    const auto x = d["x_m"].nums(), y = d["y_m"].nums();
+    if (x.size() != 2 || !(x[1] > x[0])) d["x_m"].fail("expected [min, max] with min < max");
+    if (y.size() != 2 || !(y[1] > y[0])) d["y_m"].fail("expected [min, max] with min < max");
+    dom.x0 = x[0];
+    dom.x1 = x[1];
+    dom.y0 = y[0];
+    dom.y1 = y[1];
+    const std::string h = d["horizontal"].str();
+    if (h != "bounded" && h != "periodic") d["horizontal"].fail("expected \"bounded\" or \"periodic\", found '" + h + "'");
+    dom.periodic = h == "periodic";
+}
+
+void readSunAndSky(const JReader& r, SceneIR* out) {
+    SceneIR& s = *out;
+    auto sun = r["sun"];
+    sun.expectKeys({"enabled", "zenith_rad", "azimuth_rad", "half_angle_rad", "irradiance"});
+    s.sun.enabled = sun["enabled"].boolean();
+    s.sun.zenith = sun["zenith_rad"].num();
+    s.sun.azimuth = sun["azimuth_rad"].num();
+    s.sun.halfAngle = sun["half_angle_rad"].num();
+    s.sun.irradiance = sun["irradiance"].spectrum();
+    auto sky = r["sky"];
+    sky.expectKeys({"radiance"});
+    s.sky.radiance = sky["radiance"].spectrum();
+}
+
+// One medium: index, layers (checked contiguous) and scatterers, solver.
+Medium readMedium(const JReader& m) {
+    m.expectKeys({"name", "refractive_index", "layers", "solver"});
+    Medium md;
+    md.name = m["name"].str();
+    md.refractiveIndex = m["refractive_index"].spectrum();
+    md.layers.clear();
+    auto layers = m["layers"];
+    for (size_t li = 0; li < layers.size(); ++li) {
+        auto l = layers.at(li);
+        l.expectKeys({"z_top_m", "z_bottom_m", "absorption_per_m", "scatterers"});
+        Layer ly;
+        ly.zTop = l["z_top_m"].bound(kInfinity);
+        ly.zBottom = l["z_bottom_m"].bound(-kInfinity);
+        ly.absorption = l["absorption_per_m"].spectrum();
+        auto sc = l["scatterers"];
+        for (size_t k = 0; k < sc.size(); ++k) {
+            auto c = sc.at(k);
+            c.expectKeys({"name", "scattering_per_m", "phase"});
+            Scatterer x;
+            x.name = c["name"].str();
+            x.scattering = c["scattering_per_m"].spectrum();
+            x.phase = readPhase(c["phase"]);
+            ly.scatterers.push_back(x);
+        }
+        md.layers.push_back(ly);
+    }
+    if (auto err = checkLayers(md); !err.empty()) layers.fail(err);
+    if (m.has("solver")) md.solver = m["solver"].choice<Medium::Solver>();
+    return md;
+}
+
+// One material: its type, solver, reflectance, raster and the keys of its type only.
+Material readMaterial(const JReader& m) {
+    m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad", "sea",
+                  "gram_charlier", "shadowing", "class_map"});
+    Material mt;
+    mt.name = m["name"].str();
+    mt.type = m["type"].choice<Material::Type>();
+    if (m.has("solver")) mt.solver = m["solver"].choice<Material::Solver>();
+    mt.reflectance = m["reflectance"].spectrum();
+    if (m.has("texture")) {
+        auto t = m["texture"];
+        t.expectKeys({"file", "extent_m"});
+        mt.texture = t["file"].str();
+        const auto e = t["extent_m"].nums();
+        if (e.size() != 4) t["extent_m"].fail("expected [x0, y0, x1, y1]");
+        mt.textureX0 = e[0];
+        mt.textureY0 = e[1];
+        mt.textureX1 = e[2];
+        mt.textureY1 = e[3];
+    }
+    // Keys that belong to one material type are refused on the others (they would do nothing).
+    if (mt.type != Material::Type::RoughDielectric)
+        for (const char* k : {"wind_speed_mps", "wind_azimuth_rad", "sea", "gram_charlier", "shadowing"})
+            if (m.has(k)) m[k].fail("only a rough-dielectric material has this key");
+    if (mt.type != Material::Type::Classified && m.has("class_map"))
+        m["class_map"].fail("only a classified material has a class map");
+    if (m.has("class_map")) {
+        auto c = m["class_map"];
+        c.expectKeys({"file", "extent_m", "classes"});
+        mt.texture = c["file"].str();
+        const auto e = c["extent_m"].nums();
+        if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
+            c["extent_m"].fail("expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0");
+        mt.textureX0 = e[0];
+        mt.textureY0 = e[1];
+        mt.textureX1 = e[2];
+        mt.textureY1 = e[3];
+        mt.classMaterials = c["classes"].strings();
+        if (mt.classMaterials.empty() || mt.classMaterials.size() > 65536)
+            c["classes"].fail("expected 1 to 65536 class material names (one per raster value)");
+    }
+    if (mt.type == Material::Type::Classified && !m.has("class_map")) m.fail("a classified material needs 'class_map'");
+    if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
+    if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
+    if (m.has("sea")) mt.sea = m["sea"].choice<CoxMunkSea>();
+    if (m.has("gram_charlier")) mt.gramCharlier = m["gram_charlier"].boolean();
+    if (m.has("shadowing")) mt.shadowing = m["shadowing"].choice<MicrofacetShadowing>();
+    return mt;
+}
+
+// One mesh entry; its materials and media must be defined already.
+Mesh readMesh(const JReader& m, const SceneIR& s) {
+    m.expectKeys({"name", "file", "materials", "inside", "outside", "closed"});
+    Mesh me;
+    me.name = m["name"].str();
+    me.file = m["file"].str();
+    me.materials = m["materials"].strings();
+    me.inside = m["inside"].str();
+    me.outside = m["outside"].str();
+    me.closed = m["closed"].boolean();
+    for (const auto& mn : me.materials)
+        if (!s.findMaterial(mn)) m["materials"].fail("names material '" + mn + "', which is not defined");
+    for (const auto& md : {me.inside, me.outside})
+        if (!md.empty() && !s.findMedium(md)) m.fail("names medium '" + md + "', which is not defined");
+    return me;
+}
+
+// One instance of a defined mesh.
+Instance readInstance(const JReader& in, const SceneIR& s) {
+    in.expectKeys({"mesh", "rotation", "translation_m"});
+    Instance x;
+    x.mesh = in["mesh"].str();
+    if (!s.findMesh(x.mesh)) in["mesh"].fail("names mesh '" + x.mesh + "', which is not defined");
+    const auto rot = in["rotation"].nums();
+    if (rot.size() != 9) in["rotation"].fail("expected 9 numbers (row-major 3x3)");
+    std::copy(rot.begin(), rot.end(), x.rotation);
+    x.translation = in["translation_m"].vec3();
+    return x;
+}
+
+// One sensor; sizes are range-checked before narrowing.
+Sensor readSensor(const JReader& c, const SceneIR& s) {
+    c.expectKeys({"name", "type", "position_m", "forward", "up", "width", "height", "focal_length_m",
+                  "pixel_pitch_m", "pixel_size_m", "samples_per_pixel", "medium"});
+    Sensor se;
+    se.name = c["name"].str();
+    se.type = c["type"].choice<Sensor::Type>();
+    se.position = c["position_m"].vec3();
+    se.forward = c["forward"].vec3();
+    se.up = c["up"].vec3();
+    // Range-checked before the narrowing cast: a hand-edited 1e10 must not wrap to a small int.
+    for (const char* k : {"width", "height", "samples_per_pixel"}) {
+        const int64_t v = c[k].integer();
+        if (v < 1 || v > 1'000'000) c[k].fail(fmt::format("{} is out of range; allowed [1, 1000000]", v));
+    }
+    se.width = static_cast<int>(c["width"].integer());
+    se.height = static_cast<int>(c["height"].integer());
+    if (se.type == Sensor::Type::Pinhole) {
+        se.focalLength = c["focal_length_m"].num();
+        se.pixelPitch = c["pixel_pitch_m"].num();
+    } else {
+        se.pixelSize = c["pixel_size_m"].num();
+    }
+    se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
+    se.medium = c["medium"].str();
+    if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");
+    return se;
+}
+
+// One probe.
+Probe readProbe(const JReader& p) {
+    p.expectKeys({"name", "position_m", "quantities", "medium", "samples"});
+    Probe pr;
+    pr.name = p["name"].str();
+    pr.position = p["position_m"].vec3();
+    pr.quantities = p["quantities"].strings();
+    pr.medium = p["medium"].str();
+    if (p.has("samples")) {
+        const int64_t n = p["samples"].integer();
+        if (n < 2 || n > (1 << 30)) p["samples"].fail("expected an integer in [2, 2^30]");
+        pr.samples = static_cast<int>(n);
+    }
+    return pr;
+}
+
+}  // namespace
+
 SceneIR fromJsonText(const std::string& text, const std::string& file) {
     Json j;
     try {
@@ -387,210 +610,21 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
         if (!j["metadata"].is_object()) m.fail("expected an object");
         for (auto it = j["metadata"].begin(); it != j["metadata"].end(); ++it) s.metadata[it.key()] = m[it.key()].str();
     }
-    {
-        auto rr = r["render"];
-        if (!rr.json().is_object()) rr.fail("expected an object");
-        s.render.bands.clear();
-        auto bands = rr["bands_um"];
-        for (size_t i = 0; i < bands.size(); ++i) {
-            const auto v = bands.at(i).nums();
-            if (v.size() != 2 || !(v[1] > v[0]) || v[0] <= 0) bands.at(i).fail("expected [lo, hi] with 0 < lo < hi");
-            s.render.bands.push_back({v[0], v[1]});
-        }
-        s.render.seed = rr["seed"].uinteger();
-        s.render.threads = static_cast<int>(rr["threads"].integer());
-        s.render.estimator = rr["estimator"].choice<Estimator>();
-        // The optional settings: their keys, types and ranges belong to the estimators, which
-        // check them (render::makeRenderConfig); here each keeps its JSON type and order.
-        for (auto it = rr.json().begin(); it != rr.json().end(); ++it) {
-            const std::string& k = it.key();
-            if (k == "bands_um" || k == "seed" || k == "threads" || k == "estimator") continue;
-            s.render.settings.set(k, rr[k].anyParam());
-        }
-    }
-    {
-        auto d = r["domain"];
-        d.expectKeys({"x_m", "y_m", "horizontal"});
-        const auto x = d["x_m"].nums(), y = d["y_m"].nums();
-        if (x.size() != 2 || !(x[1] > x[0])) d["x_m"].fail("expected [min, max] with min < max");
-        if (y.size() != 2 || !(y[1] > y[0])) d["y_m"].fail("expected [min, max] with min < max");
-        s.domain.x0 = x[0];
-        s.domain.x1 = x[1];
-        s.domain.y0 = y[0];
-        s.domain.y1 = y[1];
-        const std::string h = d["horizontal"].str();
-        if (h != "bounded" && h != "periodic") d["horizontal"].fail("expected \"bounded\" or \"periodic\", found '" + h + "'");
-        s.domain.periodic = h == "periodic";
-    }
-    {
-        auto sun = r["sun"];
-        sun.expectKeys({"enabled", "zenith_rad", "azimuth_rad", "half_angle_rad", "irradiance"});
-        s.sun.enabled = sun["enabled"].boolean();
-        s.sun.zenith = sun["zenith_rad"].num();
-        s.sun.azimuth = sun["azimuth_rad"].num();
-        s.sun.halfAngle = sun["half_angle_rad"].num();
-        s.sun.irradiance = sun["irradiance"].spectrum();
-        auto sky = r["sky"];
-        sky.expectKeys({"radiance"});
-        s.sky.radiance = sky["radiance"].spectrum();
-    }
+    readRender(r["render"], &s.render);
+    readDomain(r["domain"], &s.domain);
+    readSunAndSky(r, &s);
     auto media = r["media"];
-    for (size_t i = 0; i < media.size(); ++i) {
-        auto m = media.at(i);
-        m.expectKeys({"name", "refractive_index", "layers", "solver"});
-        Medium md;
-        md.name = m["name"].str();
-        md.refractiveIndex = m["refractive_index"].spectrum();
-        md.layers.clear();
-        auto layers = m["layers"];
-        for (size_t li = 0; li < layers.size(); ++li) {
-            auto l = layers.at(li);
-            l.expectKeys({"z_top_m", "z_bottom_m", "absorption_per_m", "scatterers"});
-            Layer ly;
-            ly.zTop = l["z_top_m"].bound(kInfinity);
-            ly.zBottom = l["z_bottom_m"].bound(-kInfinity);
-            ly.absorption = l["absorption_per_m"].spectrum();
-            auto sc = l["scatterers"];
-            for (size_t k = 0; k < sc.size(); ++k) {
-                auto c = sc.at(k);
-                c.expectKeys({"name", "scattering_per_m", "phase"});
-                Scatterer x;
-                x.name = c["name"].str();
-                x.scattering = c["scattering_per_m"].spectrum();
-                x.phase = readPhase(c["phase"]);
-                ly.scatterers.push_back(x);
-            }
-            md.layers.push_back(ly);
-        }
-        if (auto err = checkLayers(md); !err.empty()) layers.fail(err);
-        if (m.has("solver")) md.solver = m["solver"].choice<Medium::Solver>();
-        s.media.push_back(md);
-    }
+    for (size_t i = 0; i < media.size(); ++i) s.media.push_back(readMedium(media.at(i)));
     auto mats = r["materials"];
-    for (size_t i = 0; i < mats.size(); ++i) {
-        auto m = mats.at(i);
-        m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad", "sea",
-                      "gram_charlier", "shadowing", "class_map"});
-        Material mt;
-        mt.name = m["name"].str();
-        mt.type = m["type"].choice<Material::Type>();
-        if (m.has("solver")) mt.solver = m["solver"].choice<Material::Solver>();
-        mt.reflectance = m["reflectance"].spectrum();
-        if (m.has("texture")) {
-            auto t = m["texture"];
-            t.expectKeys({"file", "extent_m"});
-            mt.texture = t["file"].str();
-            const auto e = t["extent_m"].nums();
-            if (e.size() != 4) t["extent_m"].fail("expected [x0, y0, x1, y1]");
-            mt.textureX0 = e[0];
-            mt.textureY0 = e[1];
-            mt.textureX1 = e[2];
-            mt.textureY1 = e[3];
-        }
-        // Keys that belong to one material type are refused on the others (they would do nothing).
-        if (mt.type != Material::Type::RoughDielectric)
-            for (const char* k : {"wind_speed_mps", "wind_azimuth_rad", "sea", "gram_charlier", "shadowing"})
-                if (m.has(k)) m[k].fail("only a rough-dielectric material has this key");
-        if (mt.type != Material::Type::Classified && m.has("class_map"))
-            m["class_map"].fail("only a classified material has a class map");
-        if (m.has("class_map")) {
-            auto c = m["class_map"];
-            c.expectKeys({"file", "extent_m", "classes"});
-            mt.texture = c["file"].str();
-            const auto e = c["extent_m"].nums();
-            if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
-                c["extent_m"].fail("expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0");
-            mt.textureX0 = e[0];
-            mt.textureY0 = e[1];
-            mt.textureX1 = e[2];
-            mt.textureY1 = e[3];
-            mt.classMaterials = c["classes"].strings();
-            if (mt.classMaterials.empty() || mt.classMaterials.size() > 65536)
-                c["classes"].fail("expected 1 to 65536 class material names (one per raster value)");
-        }
-        if (mt.type == Material::Type::Classified && !m.has("class_map")) m.fail("a classified material needs 'class_map'");
-        if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
-        if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
-        if (m.has("sea")) mt.sea = m["sea"].choice<CoxMunkSea>();
-        if (m.has("gram_charlier")) mt.gramCharlier = m["gram_charlier"].boolean();
-        if (m.has("shadowing")) mt.shadowing = m["shadowing"].choice<MicrofacetShadowing>();
-        s.materials.push_back(mt);
-    }
+    for (size_t i = 0; i < mats.size(); ++i) s.materials.push_back(readMaterial(mats.at(i)));
     auto meshes = r["meshes"];
-    for (size_t i = 0; i < meshes.size(); ++i) {
-        auto m = meshes.at(i);
-        m.expectKeys({"name", "file", "materials", "inside", "outside", "closed"});
-        Mesh me;
-        me.name = m["name"].str();
-        me.file = m["file"].str();
-        me.materials = m["materials"].strings();
-        me.inside = m["inside"].str();
-        me.outside = m["outside"].str();
-        me.closed = m["closed"].boolean();
-        for (const auto& mn : me.materials)
-            if (!s.findMaterial(mn)) m["materials"].fail("names material '" + mn + "', which is not defined");
-        for (const auto& md : {me.inside, me.outside})
-            if (!md.empty() && !s.findMedium(md)) m.fail("names medium '" + md + "', which is not defined");
-        s.meshes.push_back(me);
-    }
+    for (size_t i = 0; i < meshes.size(); ++i) s.meshes.push_back(readMesh(meshes.at(i), s));
     auto inst = r["instances"];
-    for (size_t i = 0; i < inst.size(); ++i) {
-        auto in = inst.at(i);
-        in.expectKeys({"mesh", "rotation", "translation_m"});
-        Instance x;
-        x.mesh = in["mesh"].str();
-        if (!s.findMesh(x.mesh)) in["mesh"].fail("names mesh '" + x.mesh + "', which is not defined");
-        const auto rot = in["rotation"].nums();
-        if (rot.size() != 9) in["rotation"].fail("expected 9 numbers (row-major 3x3)");
-        std::copy(rot.begin(), rot.end(), x.rotation);
-        x.translation = in["translation_m"].vec3();
-        s.instances.push_back(x);
-    }
+    for (size_t i = 0; i < inst.size(); ++i) s.instances.push_back(readInstance(inst.at(i), s));
     auto sensors = r["sensors"];
-    for (size_t i = 0; i < sensors.size(); ++i) {
-        auto c = sensors.at(i);
-        c.expectKeys({"name", "type", "position_m", "forward", "up", "width", "height", "focal_length_m",
-                      "pixel_pitch_m", "pixel_size_m", "samples_per_pixel", "medium"});
-        Sensor se;
-        se.name = c["name"].str();
-        se.type = c["type"].choice<Sensor::Type>();
-        se.position = c["position_m"].vec3();
-        se.forward = c["forward"].vec3();
-        se.up = c["up"].vec3();
-        // Range-checked before the narrowing cast: a hand-edited 1e10 must not wrap to a small int.
-        for (const char* k : {"width", "height", "samples_per_pixel"}) {
-            const int64_t v = c[k].integer();
-            if (v < 1 || v > 1'000'000) c[k].fail(fmt::format("{} is out of range; allowed [1, 1000000]", v));
-        }
-        se.width = static_cast<int>(c["width"].integer());
-        se.height = static_cast<int>(c["height"].integer());
-        if (se.type == Sensor::Type::Pinhole) {
-            se.focalLength = c["focal_length_m"].num();
-            se.pixelPitch = c["pixel_pitch_m"].num();
-        } else {
-            se.pixelSize = c["pixel_size_m"].num();
-        }
-        se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
-        se.medium = c["medium"].str();
-        if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");
-        s.sensors.push_back(se);
-    }
+    for (size_t i = 0; i < sensors.size(); ++i) s.sensors.push_back(readSensor(sensors.at(i), s));
     auto probes = r["probes"];
-    for (size_t i = 0; i < probes.size(); ++i) {
-        auto p = probes.at(i);
-        p.expectKeys({"name", "position_m", "quantities", "medium", "samples"});
-        Probe pr;
-        pr.name = p["name"].str();
-        pr.position = p["position_m"].vec3();
-        pr.quantities = p["quantities"].strings();
-        pr.medium = p["medium"].str();
-        if (p.has("samples")) {
-            const int64_t n = p["samples"].integer();
-            if (n < 2 || n > (1 << 30)) p["samples"].fail("expected an integer in [2, 2^30]");
-            pr.samples = static_cast<int>(n);
-        }
-        s.probes.push_back(pr);
-    }
+    for (size_t i = 0; i < probes.size(); ++i) s.probes.push_back(readProbe(probes.at(i)));
     validateNamesAndPaths(s, file);
     return s;
 }

@@ -127,6 +127,20 @@ struct ProbeSampler {
     }
 };
 
+// A probe value to be filled band group by band group.
+ProbeValue emptyValue(const std::string& probe, const std::string& quantity, Quantity q, int bands, int samples,
+                      int batches) {
+    ProbeValue v;
+    v.probe = probe;
+    v.quantity = quantity;
+    v.units = q == Quantity::Lu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
+    v.mean.assign(bands, 0.0);
+    v.stderr_.assign(bands, 0.0);
+    v.samples = samples;
+    v.batches = batches;
+    return v;
+}
+
 // The mean of the batch means and its standard error (their spread), per band of g.
 void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, int perBatch, BandGroup g,
                      ProbeValue* v) {
@@ -181,14 +195,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     std::vector<ProbeValue> out;
     for (size_t qi = 0; qi < probe.quantities.size(); ++qi) {
         const Quantity q = parseQuantity(probe.quantities[qi], who);
-        ProbeValue v;
-        v.probe = probe.name;
-        v.quantity = probe.quantities[qi];
-        v.units = q == Quantity::Lu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
-        v.mean.assign(nb, 0.0);
-        v.stderr_.assign(nb, 0.0);
-        v.samples = perBatch * B;
-        v.batches = B;
+        ProbeValue v = emptyValue(probe.name, probe.quantities[qi], q, nb, perBatch * B, B);
         const bool up = q == Quantity::Ed || q == Quantity::Eod;
         const Normal3 n{0, 0, up ? 1.0 : -1.0};
         const Medium& md = scene.media()[medium];

@@ -403,7 +403,11 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
         } else {
             parseIops(*op, bands, &o.iops);
         }
-        o.interfaceSolver = op->getEnum("interface", "fresnel", {"fresnel"});
+        // The air-water interface is always evaluated by the Fresnel solver (smooth and rough alike):
+        // a key that could only restate that is refused rather than silently read.
+        if (auto in = op->optional("interface"))
+            in->fail("the air-water interface always uses the Fresnel solver (smooth or, with "
+                     "water.surface.roughness, rough); remove 'interface'");
     }
 }
 
@@ -640,9 +644,25 @@ ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater)
     return c;
 }
 
-void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
-    ir->name = spec.scene.name;
-    ir->render = spec.render.settings;
+namespace {
+
+// The mean over the solar disc (half-angle `halfAngle`, centre at `zenith`, uniform in solid angle)
+// of max(0, cos theta): the factor that turns the beam irradiance into irradiance on the ground.
+// A 256 x 256 midpoint rule in (cos of the angle from the centre, azimuth about it).
+double meanDiscCosine(double zenith, double halfAngle) {
+    constexpr int kN = 256;
+    const double cosMax = std::cos(halfAngle), sz = std::sin(zenith), cz = std::cos(zenith);
+    double sum = 0;
+    for (int i = 0; i < kN; ++i) {
+        const double u = cosMax + (1.0 - cosMax) * (i + 0.5) / kN, r = std::sqrt(std::max(0.0, 1.0 - u * u));
+        for (int k = 0; k < kN; ++k) sum += std::max(0.0, cz * u + sz * r * std::cos(2.0 * kPi * (k + 0.5) / kN));
+    }
+    return sum / (kN * kN);
+}
+
+// Sun and sky: the sun's direction (from a date and the origin when given), the simple
+// atmosphere's split of E_h between the sky and the sun, or the given spectra.
+void applySunAndSky(const SceneSpec& spec, ir::SceneIR* ir) {
     // Sun: compass azimuth (clockwise from north) -> IR azimuth (counter-clockwise from east).
     ir->sun.enabled = spec.sun.enabled;
     ir->sun.zenith = spec.sun.zenith;
@@ -669,15 +689,19 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
     if (spec.sky.model == "simple") {
         // DIRSIG "simple atmosphere" (spec/seed-ch01-04.md §4.0): L_sky = F E_h / pi, and the sun's
         // share (1 - F) E_h is measured on the plane `sun_plane` names:
-        //   horizontal  (1 - F) E_h on a horizontal plane: (1 - F) E_h / cos(zenith) normal to the
-        //               beam (the sky and the sun then add up to E_h on the ground);
+        //   horizontal  (1 - F) E_h on a horizontal plane: (1 - F) E_h / <cos> normal to the beam,
+        //               <cos> the disc's mean cosine (the sky and the sun then add up to E_h on the
+        //               ground);
         //   normal      (1 - F) E_h normal to the beam: DIRSIG's Eq. 4.5 (solarIrradiance =
         //               (1 - skyfraction) hemisphereIrradiance), (1 - F) E_h cos(zenith) on the ground.
         // The two differ by 1 / cos(zenith): a factor of two at 60 degrees.
         ir->sky.radiance = Spectrum::constant(spec.sky.skyFraction * spec.sky.hemisphereIrradiance * kInvPi);
-        const double cz = std::cos(sunZenith);
+        // Horizontal: the mean of max(0, cos) over the disc, not the cosine of its centre, so that a
+        // sun at the horizon (a disc partly below it, whose centre's cosine is near 0) still puts
+        // exactly (1 - F) E_h on the ground.
+        const double cz = meanDiscCosine(sunZenith, spec.sun.halfAngle);
         const double share = (1 - spec.sky.skyFraction) * spec.sky.hemisphereIrradiance;
-        const double beam = spec.sky.sunPlane == "normal" ? share : (cz > 1e-6 ? share / cz : 0.0);
+        const double beam = spec.sky.sunPlane == "normal" ? share : (cz > 1e-9 ? share / cz : 0.0);
         ir->sun.irradiance = Spectrum::constant(spec.sun.enabled ? beam : 0.0);
         ir->metadata["sky.sun_plane"] = spec.sky.sunPlane;
         if (spec.sky.skyFraction >= 1.0) ir->sun.enabled = false;
@@ -685,38 +709,39 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
         ir->sky.radiance = spec.sky.radiance.value_or(Spectrum::constant(0.0));
         ir->sun.irradiance = spec.sun.irradiance.value_or(Spectrum::constant(0.0));
     }
-    ir->domain.x0 = spec.scene.x0;
-    ir->domain.x1 = spec.scene.x1;
-    ir->domain.y0 = spec.scene.y0;
-    ir->domain.y1 = spec.scene.y1;
-    ir->domain.periodic = spec.hasWater && spec.periodic;
-    if (spec.hasWater) {
-        const WaterOptics& o = spec.waterOptics;
-        ir::Medium w;
-        w.name = "water";
-        w.origin = o.solver.empty() ? o.loc : o.solverLoc;
-        if (!o.solver.empty()) w.solver = parseName<ir::Medium::Solver>(o.solver);
-        w.refractiveIndex = o.refractiveIndex;
-        auto layerOf = [](const LayerOptics& l) {
-            ir::Layer ly;
-            ly.absorption = l.absorption;
-            ly.scatterers = l.scatterers;
-            return ly;
-        };
-        if (o.layers.empty()) {
-            w.layers = {layerOf(o.iops)};
-            if (!o.iops.preset.empty()) ir->metadata["water.iop_preset"] = o.iops.preset;
-        } else {
-            w.layers.clear();
-            for (size_t i = 0; i < o.layers.size(); ++i) {
-                ir::Layer ly = layerOf(o.layers[i]);
-                ly.zTop = i == 0 ? ir::kInfinity : spec.waterLevel - o.layerTops[i];
-                ly.zBottom = i + 1 < o.layers.size() ? spec.waterLevel - o.layerTops[i + 1] : -ir::kInfinity;
-                w.layers.push_back(ly);
-            }
+}
+
+// The water medium: refractive index and one layer, or the stack of layers below the level.
+void applyWater(const SceneSpec& spec, ir::SceneIR* ir) {
+    const WaterOptics& o = spec.waterOptics;
+    ir::Medium w;
+    w.name = "water";
+    w.origin = o.solver.empty() ? o.loc : o.solverLoc;
+    if (!o.solver.empty()) w.solver = parseName<ir::Medium::Solver>(o.solver);
+    w.refractiveIndex = o.refractiveIndex;
+    auto layerOf = [](const LayerOptics& l) {
+        ir::Layer ly;
+        ly.absorption = l.absorption;
+        ly.scatterers = l.scatterers;
+        return ly;
+    };
+    if (o.layers.empty()) {
+        w.layers = {layerOf(o.iops)};
+        if (!o.iops.preset.empty()) ir->metadata["water.iop_preset"] = o.iops.preset;
+    } else {
+        w.layers.clear();
+        for (size_t i = 0; i < o.layers.size(); ++i) {
+            ir::Layer ly = layerOf(o.layers[i]);
+            ly.zTop = i == 0 ? ir::kInfinity : spec.waterLevel - o.layerTops[i];
+            ly.zBottom = i + 1 < o.layers.size() ? spec.waterLevel - o.layerTops[i + 1] : -ir::kInfinity;
+            w.layers.push_back(ly);
         }
-        ir->media.push_back(w);
     }
+    ir->media.push_back(w);
+}
+
+// Materials; a dielectric material also brings the medium of its name.
+void applyMaterials(const SceneSpec& spec, ir::SceneIR* ir) {
     for (const auto& m : spec.materials) {
         ir::Material mt;
         mt.name = m.name;
@@ -742,7 +767,9 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
         mt.origin = m.loc;
         ir->materials.push_back(mt);
     }
-    for (const auto& s : spec.sensors) ir->sensors.push_back(placeSensor(s, spec.waterLevel, spec.hasWater));
+}
+
+void applyProbes(const SceneSpec& spec, ir::SceneIR* ir) {
     for (const auto& p : spec.probes) {
         ir::Probe pr;
         pr.name = p.name;
@@ -753,6 +780,23 @@ void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
             pr.medium = "water";
         ir->probes.push_back(pr);
     }
+}
+
+}  // namespace
+
+void applyCommonSections(const SceneSpec& spec, ir::SceneIR* ir) {
+    ir->name = spec.scene.name;
+    ir->render = spec.render.settings;
+    applySunAndSky(spec, ir);
+    ir->domain.x0 = spec.scene.x0;
+    ir->domain.x1 = spec.scene.x1;
+    ir->domain.y0 = spec.scene.y0;
+    ir->domain.y1 = spec.scene.y1;
+    ir->domain.periodic = spec.hasWater && spec.periodic;
+    if (spec.hasWater) applyWater(spec, ir);
+    applyMaterials(spec, ir);
+    for (const auto& s : spec.sensors) ir->sensors.push_back(placeSensor(s, spec.waterLevel, spec.hasWater));
+    applyProbes(spec, ir);
     ir->metadata["source"] = spec.file.filename().string();
 }
 

@@ -103,7 +103,6 @@ struct WaterOptics {
     // still-water level; the last layer continues downward without limit.
     std::vector<double> layerTops;        // depth of each layer's top (first = 0)
     std::vector<LayerOptics> layers;
-    std::string interfaceSolver = "fresnel";  // fresnel (specular) | cox-munk (rough, later)
     std::string solver;                       // "" (attenuation only) | medium-pm (dirsig estimator)
     SourceLoc loc, solverLoc;
 };

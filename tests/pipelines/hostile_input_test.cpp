@@ -820,3 +820,20 @@ TEST_F(Hostile, ResumeRefusesCheckpointsOfAnotherShape) {
     EXPECT_TRUE(fs::exists(render / "nadir.exr"));
     EXPECT_FALSE(fs::exists(ckpt)) << "a finished run keeps no checkpoint";
 }
+
+// ---- Issue 17: settings that were read but ignored are refused -------------------------------
+
+TEST_F(Hostile, WaterOpticsInterfaceIsRefused) {
+    // water.optics.interface could only say `fresnel`, which the air-water interface always is:
+    // check-scene and run refuse it at its location instead of reading it silently.
+    const std::string text = replaced(kScene, "water: {optics: {preset: coastal}}",
+                                      "water: {optics: {preset: coastal, interface: fresnel}}");
+    for (const char* cmd : {"check-scene", "run"}) {
+        const CommandResult r = runScene(cmd, text, std::string(cmd) != "check-scene");
+        EXPECT_EQ(r.status, 1) << cmd << ": " << r.output;
+        EXPECT_TRUE(contains(r.output, "scene.yaml:4:") && contains(r.output, "water.optics.interface") &&
+                    contains(r.output, "the air-water interface always uses the Fresnel solver"))
+            << cmd << ": " << r.output;
+    }
+    expectNothingWritten(out_, "run");
+}

@@ -222,7 +222,9 @@ TEST(KindDescriptors, EstimatorSettingsMatchTheParserTheIrAndMakeRenderConfig) {
             EXPECT_FALSE(p.doc.empty());
             // One range per setting: every estimator that declares it declares the same one.
             for (const ParamSpec* q : allRenderSettings())
-                if (q->name == p.name) EXPECT_EQ(q->rangeText(), p.rangeText());
+                if (q->name == p.name) {
+                    EXPECT_EQ(q->rangeText(), p.rangeText());
+                }
             for (const Trial& t : insideValues(p)) {
                 const auto spec = parse(renderScene(k.name, p.sceneName(), t.text));
                 const ParamValue* v = spec.render.settings.settings.find(p.name);
@@ -334,7 +336,9 @@ TEST(KindDescriptors, DocsListExactlyTheRegisteredParameters) {
     for (const auto& row : docsTable("estimator")) {
         keys.insert(row[0]);
         for (const ParamSpec* p : allRenderSettings())
-            if (p->sceneName() == row[0]) EXPECT_EQ(row[3], p->rangeText()) << row[0];
+            if (p->sceneName() == row[0]) {
+                EXPECT_EQ(row[3], p->rangeText()) << row[0];
+            }
     }
     for (const ParamSpec* p : allRenderSettings()) declared.insert(p->sceneName());
     EXPECT_EQ(keys, declared);

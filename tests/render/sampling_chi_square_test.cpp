@@ -13,7 +13,7 @@
 //  2. Medium::sampleAround / pdfAround: directions around a tilted axis against pdfAround, via
 //     testSphere (theta, phi) about a frame built independently of the sampler's, and pdfAround's
 //     normalisation over the sphere. The single-constituent layers overlap with
-//     tests/render/phase_functions_test.cpp, which already tests every PhaseFunction sampler in
+//     tests/core/phase_functions_test.cpp, which already tests every PhaseFunction sampler in
 //     theta and four of them in directions; what is new here is the layer path (IR phase
 //     description -> makePhaseFunction -> sampleAround, pdfAround through the chord |w - dir|),
 //     and above all the layer that mixes constituents with band-dependent weights, which
@@ -46,7 +46,7 @@
 #include "core/spectrum.h"
 #include "core/units.h"
 #include "render/medium.h"
-#include "render/phase_functions.h"
+#include "core/phase_functions.h"
 #include "render/sources.h"
 #include "tests/support/chi_square.h"
 
@@ -439,12 +439,21 @@ TEST(FreeFlightChiSquare, RejectsWrongDensities) {
 
 namespace {
 
-ir::PhaseFunction irPhase(ir::PhaseFunction::Type t, double g = 0, double B = 0, double k = 1) {
+// The IR's description of a phase function, by its registered name, with the parameter its
+// kind takes (core/phase_functions.cpp's descriptors).
+namespace T {
+constexpr const char* Isotropic = "isotropic";
+constexpr const char* HenyeyGreenstein = "henyey-greenstein";
+constexpr const char* Petzold = "petzold";
+constexpr const char* FournierForand = "fournier-forand";
+constexpr const char* RayleighLike = "rayleigh";
+}  // namespace T
+ir::PhaseFunction irPhase(const std::string& t, double g = 0, double B = 0, double k = 1) {
     ir::PhaseFunction p;
     p.type = t;
-    p.g = g;
-    p.backscatterFraction = B;
-    p.k = k;
+    if (t == T::HenyeyGreenstein) p.params.set("g", g);
+    if (t == T::FournierForand) p.params.set("backscatter_fraction", B);
+    if (t == T::RayleighLike) p.params.set("k", k);
     return p;
 }
 
@@ -461,8 +470,8 @@ Medium singleScattererMedium(const ir::PhaseFunction& p) {
 // the share of the band-averaged b (0.6 / 1.95 = 0.3077), so mixing up the two shows.
 Medium twoConstituentMedium() {
     ir::Medium w = ir::Medium::homogeneous("w", 1.34, Spectrum::constant(0.05), Spectrum::constant(0));
-    w.layers[0].scatterers.push_back({"water", linear(0.35, 0.05), irPhase(ir::PhaseFunction::Type::RayleighLike, 0, 0, 0.835)});
-    w.layers[0].scatterers.push_back({"particles", linear(0.0, 0.9), irPhase(ir::PhaseFunction::Type::Petzold)});
+    w.layers[0].scatterers.push_back({"water", linear(0.35, 0.05), irPhase(T::RayleighLike, 0, 0, 0.835)});
+    w.layers[0].scatterers.push_back({"particles", linear(0.0, 0.9), irPhase(T::Petzold)});
     return Medium(w, kBands3, "two-constituent test water");
 }
 double waterShare(int band) {
@@ -558,7 +567,6 @@ double floorDeficit(const PhaseFunction& pf) {
 // others. 100000 samples each (these phase functions' own samplers are tested with more in
 // phase_functions_test.cpp); the smallest cells (back hemisphere of Petzold) are pooled.
 TEST(SampleAroundChiSquare, SingleConstituentLayersFollowPdfAround) {
-    using T = ir::PhaseFunction::Type;
     struct Case {
         const char* what;
         ir::PhaseFunction p;
@@ -622,7 +630,7 @@ TEST(SampleAroundChiSquare, MixedLayerFollowsBandAveragedMixture) {
 // 0.3640: the plausible mistake of averaging b before dividing).
 TEST(SampleAroundChiSquare, RejectsWrongPdfs) {
     {
-        const Medium m = singleScattererMedium(irPhase(ir::PhaseFunction::Type::HenyeyGreenstein, 0.9));
+        const Medium m = singleScattererMedium(irPhase(T::HenyeyGreenstein, 0.9));
         const PhaseFunction wrong = PhaseFunction::henyeyGreenstein(0.92);
         const auto r = aroundChiSquare(m, BandGroup{0, 1}, chi2::forwardPeakedThetaEdges(1e-3, 15, 0.5, 12), 8, 100000,
                                        seed(202), [&](double th, double) {

@@ -185,7 +185,9 @@ TEST(SceneFile, SimpleAtmosphereSplit) {
     ir::SceneIR s;
     applyCommonSections(spec, &s);
     EXPECT_NEAR(s.sky.radiance.at(0.5), 0.5 / kPi, 1e-15);
-    EXPECT_NEAR(s.sun.irradiance.at(0.5) * std::cos(s.sun.zenith), 0.5, 1e-12);
+    // The sun carries (1 - F) E_h = 0.5 on the ground: the beam times the disc's mean cosine, which for
+    // a disc of half-angle a wholly above the horizon is cos(zenith) (1 + cos a) / 2.
+    EXPECT_NEAR(s.sun.irradiance.at(0.5) * std::cos(s.sun.zenith) * (1 + std::cos(s.sun.halfAngle)) / 2, 0.5, 1e-12);
     // Compass 315 deg (north-west) -> IR azimuth counter-clockwise from east = 135 deg.
     EXPECT_NEAR(rad2deg(s.sun.azimuth), 135.0, 1e-12);
     EXPECT_NEAR(s.sun.direction().x, -s.sun.direction().y, 1e-12);
