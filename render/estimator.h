@@ -90,7 +90,7 @@ public:
     // that starts in `medium` (a sensor ray: the solar disc counts wherever a path reaches it).
     virtual Spec Li(const Ray& ray, int medium, RandomStream& rng) const = 0;
     // The same radiance without the direct solar beam that reaches ray.o unscattered along a
-    // single refraction (the part directSun() below estimates): probes add that part separately.
+    // single refraction (the part sun().direct() estimates): probes add that part separately.
     virtual Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const = 0;
 
     // The sun connections of this estimator's band group (next-event estimation through flat,
