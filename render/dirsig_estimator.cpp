@@ -347,8 +347,8 @@ Spec DirsigEstimator::shadeInterface(const Ray& ray, const SurfaceHit& h, const 
     // direction (Walter et al. 2007). Classic sky rays pass interfaces the same way, with the disc
     // counted by the chain rules.
     PathState next = st;
-    const Interaction it = step_.atInterface(ray, h, bxdf, st.chain, &next.specularDepth, st.splits, rng);
-    Spec L = bxdf.isGlossy() ? it.sun : Spec(group_.count);
+    Spec L(group_.count);
+    const Interaction it = step_.atInterface(ray, h, bxdf, st.chain, &next.specularDepth, st.splits, rng, &L);
     if (it.kind == Interaction::Kind::Ended) return L;
     if (it.kind == Interaction::Kind::Split) next.splits = st.splits - 1;
     const int n = it.kind == Interaction::Kind::Split ? 2 : 1;

@@ -41,13 +41,16 @@ void InteractionStep::requireDiffuse(const BxDF& bxdf) {
 }
 
 Interaction InteractionStep::atInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const SunChain& chain,
-                                         int* specular, int splits, RandomStream& rng) const {
-    LITTORAL_CHECK(bxdf.isDelta() || bxdf.isGlossy());
-    if (*specular >= maxSpecular_) return {};
+                                         int* specular, int splits, RandomStream& rng, Spec* sun) const {
+    if (*specular >= maxSpecular_) {
+        if (bxdf.isGlossy() && sun) *sun = Spec(group_.count);
+        return Interaction{};
+    }
     ++*specular;
     const Frame frame = scene_.shadingFrame(h);  // +z on the mesh's outside
     const Vec3 wo = frame.toLocal(-ray.d);
     if (std::abs(wo.z) < 1e-12) {
+        if (bxdf.isGlossy() && sun) *sun = Spec(group_.count);
         // Exactly tangent to the face: r_f = 1 at grazing incidence and the mirror direction is the
         // ray's own, so it continues unchanged (the Fresnel weights would be 0 * inf).
         Interaction it;
@@ -62,10 +65,8 @@ Interaction InteractionStep::atInterface(const Ray& ray, const SurfaceHit& h, co
         // Rough interface: the sun by next-event estimation on the air side (MIS against BSDF
         // sampling; radiance paths only), then one direction sampled from the microfacet BxDF.
         int neeSide = 0;
-        Spec sun = sun_ ? sun_->atGlossyHit(h, frame, bxdf, wo, chain, rng, &neeSide) : Spec(group_.count);
-        Interaction it = sampled(h, frame, bxdf, wo, chain, neeSide, draw(rng, false));
-        it.sun = sun;
-        return it;
+        if (sun) *sun = sun_ ? sun_->atGlossyHit(h, frame, bxdf, wo, chain, rng, &neeSide) : Spec(group_.count);
+        return sampled(h, frame, bxdf, wo, chain, neeSide, draw(rng, false));
     }
     std::optional<Numbers> n;
     if (splits > 0 && draws_.whenSplitting) n = draw(rng, draws_.deltaUcLast);

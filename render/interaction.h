@@ -39,9 +39,6 @@ struct Interaction {
     };
     Kind kind = Kind::Ended;
     Continuation out[2];  // Split: a lobe with weight 0 (e.g. no transmission under TIR) is skipped
-    // Glossy hits on radiance paths: the sun's next-event estimate toward the viewer (radiance, to
-    // be weighted by the path's throughput); empty otherwise.
-    Spec sun;
 };
 
 // When an interface event draws its three random numbers (uc, u1, u2). Each loop keeps the stream
@@ -70,8 +67,11 @@ public:
     // The event at an interface h (bxdf = Scene::bxdf(h), specular or glossy) reached along ray with
     // sun chain `chain` (already past SunChain::hitSurface). *specular counts the path's interface
     // events; the first `splits` > 0 smooth events of a radiance path may split into both lobes.
+    // At a glossy hit of a radiance path, *sun receives the sun's next-event estimate toward the
+    // viewer (radiance, to be weighted by the path's throughput); it is not touched otherwise (one
+    // interface event per ray of a frame: the outcome is kept small).
     Interaction atInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const SunChain& chain,
-                            int* specular, int splits, RandomStream& rng) const;
+                            int* specular, int splits, RandomStream& rng, Spec* sun) const;
 
     // InternalError unless bxdf is diffuse: the callers' scattering-vertex code handles only those.
     static void requireDiffuse(const BxDF& bxdf);

@@ -326,8 +326,9 @@ bool PathEstimator::atSurface(PathState& s, const SurfaceHit& h, RandomStream& r
     }
     // Interfaces: the shared step (render/interaction.h), with the first `splits` smooth events
     // traced along both lobes.
-    const Interaction it = step_.atInterface(s.ray, h, bxdf, s.chain, &s.w.specular, s.w.splits, rng);
-    if (bxdf.isGlossy()) s.L += s.beta * it.sun;
+    Spec sun;
+    const Interaction it = step_.atInterface(s.ray, h, bxdf, s.chain, &s.w.specular, s.w.splits, rng, &sun);
+    if (bxdf.isGlossy()) s.L += s.beta * sun;
     if (it.kind == Interaction::Kind::Ended) return false;
     if (it.kind == Interaction::Kind::Split) {
         Walk w2 = s.w;

@@ -139,7 +139,7 @@ void PhotonTracer::trace(uint64_t index, ChunkResult& out) const {
             // Interfaces, smooth or rough: one direction sampled from the BxDF in importance mode,
             // weighted by f |cos| / pdf (1 for the smooth one; for the rough one the fraction of its
             // weight a single-scattering microfacet model keeps).
-            const Interaction it = step_.atInterface(ray, h, bxdf, SunChain{}, &specular, 0, rng);
+            const Interaction it = step_.atInterface(ray, h, bxdf, SunChain{}, &specular, 0, rng, nullptr);
             if (it.kind != Interaction::Kind::Continued) return;
             w *= it.out[0].weight;
             medium = it.out[0].medium;
