@@ -94,14 +94,17 @@ InputFiles& inputFiles() {
     static InputFiles f;
     return f;
 }
+
+void noteInputStat(const struct stat& st, const fs::path& path) {
+    InputFiles& f = inputFiles();
+    std::lock_guard<std::mutex> lock(f.m);
+    f.files.emplace(std::pair{st.st_dev, st.st_ino}, path.string());
+}
 }  // namespace
 
 void noteInput(const fs::path& path) {
     struct stat st;
-    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return;
-    InputFiles& f = inputFiles();
-    std::lock_guard<std::mutex> lock(f.m);
-    f.files.emplace(std::pair{st.st_dev, st.st_ino}, path.string());
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) noteInputStat(st, path);
 }
 
 void forgetInput(const fs::path& path) {
@@ -120,16 +123,6 @@ void clearNotedInputs() {
 
 void checkOutputTarget(const fs::path& target) {
     struct stat st;
-    if (::lstat(target.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
-        InputFiles& f = inputFiles();
-        std::lock_guard<std::mutex> lock(f.m);
-        const auto it = f.files.find({st.st_dev, st.st_ino});
-        if (it != f.files.end())
-            throw InputError(SourceLoc{target.string()},
-                             fmt::format("refusing to write output: it would replace '{}', which this command reads "
-                                         "as an input; write the outputs to another folder (--out)",
-                                         it->second));
-    }
     if (::lstat(target.c_str(), &st) != 0) {
         if (errno == ENOENT) return;
         if (errno == ENOTDIR)
@@ -141,6 +134,14 @@ void checkOutputTarget(const fs::path& target) {
                          fmt::format("refusing to write output: {} is in the way; Littoral replaces only regular "
                                      "files (remove it or choose another name)",
                                      kindOf(st.st_mode)));
+    InputFiles& f = inputFiles();
+    std::lock_guard<std::mutex> lock(f.m);
+    const auto it = f.files.find({st.st_dev, st.st_ino});
+    if (it != f.files.end())
+        throw InputError(SourceLoc{target.string()},
+                         fmt::format("refusing to write output: it would replace '{}', which this command reads as an "
+                                     "input; write the outputs to another folder (--out)",
+                                     it->second));
 }
 
 void createOutputFolder(const fs::path& dirIn, std::string_view option) {
@@ -429,7 +430,7 @@ void requireRegularInputFile(const fs::path& path, std::string_view what) {
     if (!S_ISREG(st.st_mode))
         throw InputError(SourceLoc{path.string()},
                          fmt::format("is {}, not a regular file; a {} must be a regular file", kindOf(st.st_mode), w));
-    noteInput(path);
+    noteInputStat(st, path);
 }
 
 std::string readTextFile(const fs::path& path) {

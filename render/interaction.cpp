@@ -42,15 +42,12 @@ void InteractionStep::requireDiffuse(const BxDF& bxdf) {
 
 Interaction InteractionStep::atInterface(const Ray& ray, const SurfaceHit& h, const BxDF& bxdf, const SunChain& chain,
                                          int* specular, int splits, RandomStream& rng, Spec* sun) const {
-    if (*specular >= maxSpecular_) {
-        if (bxdf.isGlossy() && sun) *sun = Spec(group_.count);
-        return Interaction{};
-    }
+    if (bxdf.isGlossy() && sun) *sun = Spec(group_.count);  // the sun estimate below, if any, replaces it
+    if (*specular >= maxSpecular_) return Interaction{};
     ++*specular;
     const Frame frame = scene_.shadingFrame(h);  // +z on the mesh's outside
     const Vec3 wo = frame.toLocal(-ray.d);
     if (std::abs(wo.z) < 1e-12) {
-        if (bxdf.isGlossy() && sun) *sun = Spec(group_.count);
         // Exactly tangent to the face: r_f = 1 at grazing incidence and the mirror direction is the
         // ray's own, so it continues unchanged (the Fresnel weights would be 0 * inf).
         Interaction it;
@@ -65,7 +62,7 @@ Interaction InteractionStep::atInterface(const Ray& ray, const SurfaceHit& h, co
         // Rough interface: the sun by next-event estimation on the air side (MIS against BSDF
         // sampling; radiance paths only), then one direction sampled from the microfacet BxDF.
         int neeSide = 0;
-        if (sun) *sun = sun_ ? sun_->atGlossyHit(h, frame, bxdf, wo, chain, rng, &neeSide) : Spec(group_.count);
+        if (sun && sun_) *sun = sun_->atGlossyHit(h, frame, bxdf, wo, chain, rng, &neeSide);
         return sampled(h, frame, bxdf, wo, chain, neeSide, draw(rng, false));
     }
     std::optional<Numbers> n;

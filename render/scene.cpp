@@ -77,7 +77,7 @@ auto placedOnExtent(Load&& load, const std::filesystem::path& irDir, const ir::M
 }
 
 // The renderer's material for an IR material: reflectance on the render bands, the raster it is
-// draped with, the Cox–Munk slopes of a rough interface, and the flags of its BxDF.
+// draped with, and the Cox–Munk slopes of a rough interface.
 MaterialData makeMaterial(const ir::Material& m, const std::vector<Band>& bands, const std::filesystem::path& irDir,
                           bool periodicDomain) {
     MaterialData d;
@@ -139,10 +139,6 @@ MaterialData makeMaterial(const ir::Material& m, const std::vector<Band>& bands,
             break;
         }
     }
-    d.bxdfFlags = m.type == T::RoughDielectric ? uint8_t(kReflection | kTransmission | kGlossy)
-                  : m.type == T::Dielectric    ? uint8_t(kReflection | kTransmission | kSpecular)
-                  : m.type == T::Periodic      ? uint8_t(0)
-                                               : uint8_t(kReflection | kDiffuse);
     return d;
 }
 

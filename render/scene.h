@@ -62,11 +62,6 @@ struct MaterialData {
     // value does not occur). Scene::materialIndex resolves a hit through it.
     std::shared_ptr<const ClassRaster> classMap;
     std::vector<int> classMaterial;
-    // The flags of the BxDF Scene::bxdf builds for this material (kTransmission for interfaces,
-    // kSpecular or kGlossy for smooth or rough ones, kDiffuse for the rest; 0 for periodic walls,
-    // which are domain edges, not surfaces), set once by the Scene: transport decides by them
-    // without building the BxDF.
-    uint8_t bxdfFlags = 0;
     // Interfaces let light through to the mesh's other medium; everything else is opaque.
     bool isInterface() const {
         return type == ir::Material::Type::Dielectric || type == ir::Material::Type::RoughDielectric;
@@ -74,6 +69,16 @@ struct MaterialData {
     bool isRough() const { return type == ir::Material::Type::RoughDielectric; }
     bool isOpaque() const { return !isInterface() && type != ir::Material::Type::Periodic; }
     bool isPeriodicWall() const { return type == ir::Material::Type::Periodic; }
+    // The flags of the BxDF Scene::bxdf builds for this material (kTransmission for interfaces,
+    // kSpecular or kGlossy for smooth or rough ones, kDiffuse for the rest; 0 for periodic walls,
+    // which are domain edges, not surfaces): transport decides by them without building the BxDF.
+    uint8_t bxdfFlags() const {
+        using T = ir::Material::Type;
+        if (type == T::RoughDielectric) return kReflection | kTransmission | kGlossy;
+        if (type == T::Dielectric) return kReflection | kTransmission | kSpecular;
+        if (type == T::Periodic) return 0;
+        return kReflection | kDiffuse;
+    }
 };
 
 // Reads a texture with OpenImageIO (first channel, converted to float). InputError if it cannot.
@@ -105,7 +110,7 @@ public:
     }
     const MaterialData& material(const SurfaceHit& h) const { return materials_[materialIndex(h)]; }
     // The flags of bxdf(h), without building it (MaterialData::bxdfFlags).
-    uint8_t bxdfFlags(const SurfaceHit& h) const { return material(h).bxdfFlags; }
+    uint8_t bxdfFlags(const SurfaceHit& h) const { return material(h).bxdfFlags(); }
     // Is the hit on a periodic side wall of the domain (see wrapRay)?
     bool isPeriodicWall(const SurfaceHit& h) const { return material(h).isPeriodicWall(); }
     // The BxDF at a hit for the bands of g, in the hit's local frame (+z = the mesh's outward

@@ -41,7 +41,7 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
             int k = -1;
             for (size_t j = 0; j < scene.materials().size(); ++j)
                 if (scene.materials()[j].name == name) k = static_cast<int>(j);
-            if (k < 0 || !(scene.materials()[static_cast<size_t>(k)].bxdfFlags & kGlossy)) continue;
+            if (k < 0 || !(scene.materials()[static_cast<size_t>(k)].bxdfFlags() & kGlossy)) continue;
             roughSunMaterial_[static_cast<size_t>(in)] = k;
             roughProto_[static_cast<size_t>(in)] =
                 scene.roughBxdf(k, outside.n(group.begin), scene.media()[static_cast<size_t>(in)].n(group.begin));
