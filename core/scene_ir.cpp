@@ -1,5 +1,7 @@
 #include "core/scene_ir.h"
 
+#include "core/material_kinds.h"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -117,24 +119,20 @@ Json mediumJson(const Medium& m) {
     return mj;
 }
 
+// The keys the material's type uses (core/material_kinds.h), in a fixed order.
 Json materialJson(const Material& m) {
+    const MaterialKind& kind = materialKind(m.type);
     Json mj = {{"name", m.name}, {"type", nm(m.type)}};
     if (m.solver) mj["solver"] = nm(*m.solver);
     mj["reflectance"] = spectrumJson(m.reflectance);
-    if (m.type == Material::Type::Textured)
-        mj["texture"] = {{"file", m.texture},
-                         {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})}};
-    if (m.type == Material::Type::Classified)
-        mj["class_map"] = {{"file", m.texture},
-                           {"extent_m", Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1})},
-                           {"classes", m.classMaterials}};
-    if (m.type == Material::Type::RoughDielectric) {
-        mj["wind_speed_mps"] = m.windSpeed;
-        mj["wind_azimuth_rad"] = m.windAzimuth;
-        mj["sea"] = nm(m.sea);
-        mj["gram_charlier"] = m.gramCharlier;
-        mj["shadowing"] = nm(m.shadowing);
-    }
+    const Json extent = Json::array({m.textureX0, m.textureY0, m.textureX1, m.textureY1});
+    if (kind.uses("texture")) mj["texture"] = {{"file", m.texture}, {"extent_m", extent}};
+    if (kind.uses("class_map")) mj["class_map"] = {{"file", m.texture}, {"extent_m", extent}, {"classes", m.classMaterials}};
+    if (kind.uses("wind_speed_mps")) mj["wind_speed_mps"] = m.windSpeed;
+    if (kind.uses("wind_azimuth_rad")) mj["wind_azimuth_rad"] = m.windAzimuth;
+    if (kind.uses("sea")) mj["sea"] = nm(m.sea);
+    if (kind.uses("gram_charlier")) mj["gram_charlier"] = m.gramCharlier;
+    if (kind.uses("shadowing")) mj["shadowing"] = nm(m.shadowing);
     return mj;
 }
 
@@ -462,53 +460,85 @@ Medium readMedium(const JReader& m) {
     return md;
 }
 
-// One material: its type, solver, reflectance, raster and the keys of its type only.
-Material readMaterial(const JReader& m) {
-    m.expectKeys({"name", "type", "solver", "reflectance", "texture", "wind_speed_mps", "wind_azimuth_rad", "sea",
-                  "gram_charlier", "shadowing", "class_map"});
-    Material mt;
-    mt.name = m["name"].str();
-    mt.type = m["type"].choice<Material::Type>();
-    if (m.has("solver")) mt.solver = m["solver"].choice<Material::Solver>();
-    mt.reflectance = m["reflectance"].spectrum();
+// A texture or class map's plan-view rectangle [x0, y0, x1, y1] with x1 > x0 and y1 > y0.
+void readExtent(const JReader& e, Material* mt) {
+    const auto v = e.nums();
+    if (v.size() != 4 || !(v[2] > v[0]) || !(v[3] > v[1])) e.fail("expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0");
+    mt->textureX0 = v[0];
+    mt->textureY0 = v[1];
+    mt->textureX1 = v[2];
+    mt->textureY1 = v[3];
+}
+
+// A number of the material's type, checked against its descriptor's range.
+double materialNumber(const JReader& m, const MaterialKind& kind, const ParamSpec& p) {
+    if (!m.has(p.name)) {
+        if (!p.defaultValue) m.fail(fmt::format("a {} material needs '{}' ({})", kind.info.name, p.name, p.doc));
+        return *p.defaultValue;
+    }
+    const JReader v = m[p.name];
+    const double x = p.type == ParamType::Boolean ? (v.boolean() ? 1.0 : 0.0) : v.num();
+    if (!p.inRange(x)) v.fail(fmt::format("{} is outside the allowed range {}", x, p.rangeText()));
+    return x;
+}
+
+// The keys of the material's type: its raster and its numbers (core/material_kinds.h).
+void readMaterialTypeKeys(const JReader& m, const MaterialKind& kind, Material* mt) {
     if (m.has("texture")) {
         auto t = m["texture"];
         t.expectKeys({"file", "extent_m"});
-        mt.texture = t["file"].str();
-        const auto e = t["extent_m"].nums();
-        if (e.size() != 4) t["extent_m"].fail("expected [x0, y0, x1, y1]");
-        mt.textureX0 = e[0];
-        mt.textureY0 = e[1];
-        mt.textureX1 = e[2];
-        mt.textureY1 = e[3];
+        mt->texture = t["file"].str();
+        readExtent(t["extent_m"], mt);
     }
-    // Keys that belong to one material type are refused on the others (they would do nothing).
-    if (mt.type != Material::Type::RoughDielectric)
-        for (const char* k : {"wind_speed_mps", "wind_azimuth_rad", "sea", "gram_charlier", "shadowing"})
-            if (m.has(k)) m[k].fail("only a rough-dielectric material has this key");
-    if (mt.type != Material::Type::Classified && m.has("class_map"))
-        m["class_map"].fail("only a classified material has a class map");
     if (m.has("class_map")) {
         auto c = m["class_map"];
         c.expectKeys({"file", "extent_m", "classes"});
-        mt.texture = c["file"].str();
-        const auto e = c["extent_m"].nums();
-        if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
-            c["extent_m"].fail("expected [x0, y0, x1, y1] with x1 > x0 and y1 > y0");
-        mt.textureX0 = e[0];
-        mt.textureY0 = e[1];
-        mt.textureX1 = e[2];
-        mt.textureY1 = e[3];
-        mt.classMaterials = c["classes"].strings();
-        if (mt.classMaterials.empty() || mt.classMaterials.size() > 65536)
+        mt->texture = c["file"].str();
+        readExtent(c["extent_m"], mt);
+        mt->classMaterials = c["classes"].strings();
+        if (mt->classMaterials.empty() || mt->classMaterials.size() > 65536)
             c["classes"].fail("expected 1 to 65536 class material names (one per raster value)");
     }
-    if (mt.type == Material::Type::Classified && !m.has("class_map")) m.fail("a classified material needs 'class_map'");
-    if (m.has("wind_speed_mps")) mt.windSpeed = m["wind_speed_mps"].num();
-    if (m.has("wind_azimuth_rad")) mt.windAzimuth = m["wind_azimuth_rad"].num();
-    if (m.has("sea")) mt.sea = m["sea"].choice<CoxMunkSea>();
-    if (m.has("gram_charlier")) mt.gramCharlier = m["gram_charlier"].boolean();
-    if (m.has("shadowing")) mt.shadowing = m["shadowing"].choice<MicrofacetShadowing>();
+    for (const char* k : {"texture", "class_map"})
+        if (kind.uses(k) && !m.has(k)) m.fail(fmt::format("a {} material needs '{}'", kind.info.name, k));
+    for (const ParamSpec& p : kind.info.params) {
+        const double x = materialNumber(m, kind, p);
+        if (p.name == "wind_speed_mps") mt->windSpeed = x;
+        else if (p.name == "wind_azimuth_rad") mt->windAzimuth = x;
+        else if (p.name == "gram_charlier") mt->gramCharlier = x != 0.0;
+        else throw InternalError("readMaterial: parameter '" + p.name + "' of " + kind.info.name + " is not read");
+    }
+    if (m.has("sea")) mt->sea = m["sea"].choice<CoxMunkSea>();
+    if (m.has("shadowing")) mt->shadowing = m["shadowing"].choice<MicrofacetShadowing>();
+}
+
+// One material: its type, solver, reflectance and the keys of its type only (a key of another
+// type would do nothing, so it is refused).
+Material readMaterial(const JReader& m) {
+    std::vector<std::string> keys = {"name", "type", "solver", "reflectance"};
+    for (const MaterialKind& k : materialKinds().kinds()) {
+        for (const ParamSpec& p : k.info.params) keys.push_back(p.name);
+        for (const std::string& key : k.irKeys) keys.push_back(key);
+    }
+    m.expectKeys(keys);
+    Material mt;
+    mt.name = m["name"].str();
+    mt.type = m["type"].choice<Material::Type>();
+    const MaterialKind& kind = materialKind(mt.type);
+    for (size_t i = 4; i < keys.size(); ++i)
+        if (m.has(keys[i]) && !kind.uses(keys[i]))
+            m[keys[i]].fail(fmt::format("a {} material does not use this key; it belongs to: {}", kind.info.name,
+                                        irTypesWithKey(keys[i])));
+    if (m.has("solver")) mt.solver = m["solver"].choice<Material::Solver>();
+    if (m.has("reflectance")) mt.reflectance = m["reflectance"].spectrum();
+    if (!kind.hasReflectance) {
+        const auto& v = mt.reflectance.values();
+        if (m.has("reflectance") && std::any_of(v.begin(), v.end(), [](double r) { return r != 0.0; }))
+            m["reflectance"].fail(fmt::format("a {} material has no reflectance of its own; write 0", kind.info.name));
+    } else if (!m.has("reflectance")) {
+        m.fail(fmt::format("a {} material needs 'reflectance'", kind.info.name));
+    }
+    readMaterialTypeKeys(m, kind, &mt);
     return mt;
 }
 

@@ -23,7 +23,8 @@ struct BuildOptions {
 
 void runBuild(const BuildOptions& o) {
     using namespace littoral::scenegen;
-    AssembleOptions ao;
+    // The renderer's checks run before anything is written (check-scene refuses the same).
+    AssembleOptions ao = littoral::pipelines::checkedAssembly(o.scene);
     if (o.surfaceTriangles > 0) ao.surfaceTriangles = o.surfaceTriangles;
     // Render settings are part of the IR: refuse ones the chosen estimator would not read before
     // anything is written.

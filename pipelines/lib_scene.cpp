@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <stdlib.h>
+
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
@@ -33,6 +35,72 @@ void checkRenderSettings(const scenegen::SceneSpec& spec) {
     (void)render::makeRenderConfig(ir);
 }
 
+namespace {
+
+// A render-time InputError without a location ("probe 'p1': ...", "sensor 'cam': ...",
+// "material 'sand': ...") is located at the scene-file entry it names, or at the scene file.
+// `orAtFile` false: an error that names none of them is rethrown as it is (an --out problem).
+[[noreturn]] void rethrowAtScene(const InputError& e, const scenegen::SceneSpec& spec, const fs::path& sceneFile,
+                                 bool orAtFile = true) {
+    if (!e.where().file.empty()) throw e;
+    const std::string& msg = e.message();
+    auto names = [&](const char* what, const std::string& name) {
+        return msg.rfind(fmt::format("{} '{}'", what, name), 0) == 0;
+    };
+    for (const auto& x : spec.sensors)
+        if (names("sensor", x.name)) throw InputError(x.loc, msg);
+    for (const auto& x : spec.probes)
+        if (names("probe", x.name)) throw InputError(x.loc, msg);
+    for (const auto& x : spec.materials)
+        if (names("material", x.name)) throw InputError(x.loc, msg);
+    if (!orAtFile) throw e;
+    throw InputError(SourceLoc{sceneFile.string()}, msg);
+}
+
+// A folder under the system's temporary directory, removed with everything in it when the
+// object goes out of scope.
+class TemporaryFolder {
+public:
+    TemporaryFolder() {
+        std::string tmpl = (fs::temp_directory_path() / "littoral-check-XXXXXX").string();
+        if (!::mkdtemp(tmpl.data())) throw InputError("cannot create a temporary folder under " + fs::temp_directory_path().string());
+        path_ = tmpl;
+    }
+    ~TemporaryFolder() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    TemporaryFolder(const TemporaryFolder&) = delete;
+    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+    const fs::path& path() const { return path_; }
+
+private:
+    fs::path path_;
+};
+
+}  // namespace
+
+void preflightRender(const scenegen::AssembledScene& built, const scenegen::SceneSpec& spec, const fs::path& sceneFile) {
+    const TemporaryFolder tmp;
+    if (built.textures) {
+        built.textures->writeTextures(tmp.path());
+        publishStagedOutputs();
+    }
+    try {
+        render::preflightRenderJob(built.ir, tmp.path(), render::RenderJobOptions{});
+    } catch (const InputError& e) {
+        rethrowAtScene(e, spec, sceneFile);
+    }
+}
+
+scenegen::AssembleOptions checkedAssembly(const fs::path& sceneFile) {
+    scenegen::AssembleOptions ao;
+    ao.beforeWrite = [sceneFile](const scenegen::SceneSpec& spec, const scenegen::AssembledScene& built) {
+        preflightRender(built, spec, sceneFile);
+    };
+    return ao;
+}
+
 std::string checkScene(const fs::path& sceneFile) {
     const auto spec = scenegen::loadSceneFile(sceneFile);
     checkRenderSettings(spec);
@@ -47,6 +115,7 @@ std::string checkScene(const fs::path& sceneFile) {
             for (const auto& r : built.validity["water"]["reasons"]) msg += "\n  water: " + r.get<std::string>();
         throw InputError(SourceLoc{sceneFile.string()}, msg);
     }
+    preflightRender(built, spec, sceneFile);
     size_t objects = 0;
     for (const auto& m : built.ir.meshes) objects += m.file.rfind("meshes/object_", 0) == 0 ? 1 : 0;
     std::string s;
@@ -77,8 +146,10 @@ void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview) {
 std::string runScene(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
-    checkRenderSettings(scenegen::loadSceneFile(o.scene));  // before anything is written
-    const auto built = scenegen::buildScene(o.scene, irDir);
+    const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
+    checkRenderSettings(spec);  // before anything is written
+    // The renderer's own checks run on the scene in memory before the IR is written.
+    const auto built = scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
     // The IR is a complete output set of its own, and the renderer reads its textures from
     // disk: publish it before rendering (a failed render then leaves the IR, never part of it).
     publishStagedOutputs();
@@ -89,7 +160,12 @@ std::string runScene(const RunOptions& o) {
     jo.progress = o.progress;
     jo.preview = o.preview;
     jo.resume = o.resume;
-    const auto res = render::runRenderJob(built.ir, irDir, out, jo);
+    render::RenderJobResult res;
+    try {
+        res = render::runRenderJob(built.ir, irDir, out, jo);
+    } catch (const InputError& e) {
+        rethrowAtScene(e, spec, o.scene, false);
+    }
     const auto t2 = std::chrono::steady_clock::now();
     std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
                                 std::chrono::duration<double>(t1 - t0).count());

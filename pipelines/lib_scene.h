@@ -14,14 +14,23 @@ namespace littoral::pipelines {
 void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview);
 
 }  // namespace littoral::pipelines
-namespace littoral::scenegen {
-struct SceneSpec;
-}
+#include "scenegen/assemble.h"
+
 namespace littoral::pipelines {
 
 // Checks the render settings and the per-material solvers of a parsed scene against its
 // estimator (render::makeRenderConfig) without building anything; InputError with the location.
 void checkRenderSettings(const scenegen::SceneSpec& spec);
+
+// Every check `run` makes before rendering, on a scene built in memory: the renderer's
+// (render::preflightRenderJob), reading the textures and class maps the assembly made from a
+// temporary folder that is removed afterwards. An InputError without a location is located at the
+// scene-file entry it names (sensor, probe, material) or at the scene file.
+void preflightRender(const scenegen::AssembledScene& built, const scenegen::SceneSpec& spec,
+                     const std::filesystem::path& sceneFile);
+// Assembly options whose beforeWrite runs preflightRender: `build` and `run` refuse what
+// check-scene refuses before writing anything.
+scenegen::AssembleOptions checkedAssembly(const std::filesystem::path& sceneFile);
 
 // Parses and validates every section of a scene file, including the geometry sections' own
 // parsers; throws InputError on the first mistake. Returns a short human-readable summary.

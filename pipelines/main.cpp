@@ -2,6 +2,7 @@
 // output that cannot be written, a refused memory request; the message names the file, line and
 // column, or the option); 2 an internal error; 130 / 143 interrupted by SIGINT / SIGTERM (with
 // this run's partial outputs removed, see core/atomic_file.h).
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -26,6 +27,26 @@ void printInputError(const littoral::InputError& e) {
     const std::string loc = e.where().str();
     if (loc.empty()) std::fprintf(stderr, "error: %s\n", e.message().c_str());
     else std::fprintf(stderr, "%s: error: %s\n", loc.c_str(), e.message().c_str());
+}
+
+// Every floating-point option of every command refuses nan and inf before the command runs
+// (CLI11's ranges compare, and a NaN passes every comparison).
+void refuseNonFiniteNumbers(CLI::App& app) {
+    static const CLI::Validator finite(
+        [](std::string& s) -> std::string {
+            std::size_t used = 0;
+            double v = 0;
+            try {
+                v = std::stod(s, &used);
+            } catch (const std::exception&) {
+                return "";  // not a number at all: the option's own conversion reports it
+            }
+            return std::isfinite(v) ? "" : "must be a finite number, not " + s;
+        },
+        "", "finite");
+    for (CLI::Option* o : app.get_options())
+        if (o->get_type_name() == "FLOAT" || o->get_type_name() == "FLOAT ...") o->check(finite);
+    for (CLI::App* sub : app.get_subcommands({})) refuseNonFiniteNumbers(*sub);
 }
 
 }  // namespace
@@ -58,6 +79,7 @@ int main(int argc, char** argv) {
            "machine's memory (" + formatBytes(static_cast<double>(defaultMemoryBudget())) + ")")
         ->type_name("SIZE");
     for (auto& [name, setup] : commandRegistry()) setup(app);
+    refuseNonFiniteNumbers(app);
     int rc = 0;
     try {
         // Every file a command writes belongs to this set: all of it is published when the

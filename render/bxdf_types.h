@@ -7,19 +7,16 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/bxdf_flags.h"
 #include "core/vec.h"
 
 namespace littoral::render {
 
 enum class TransportMode { Radiance, Importance };
 
-enum BxDFFlags : uint8_t {
-    kReflection = 1,
-    kTransmission = 2,
-    kDiffuse = 4,
-    kSpecular = 8,
-    kGlossy = 16,  // a real, non-delta lobe that is not Lambertian (the rough interface)
-};
+// The lobe flags (core/bxdf_flags.h), also as render::kReflection, ...
+using ::littoral::BxDFFlags;
+using enum ::littoral::BxDFFlags;
 
 struct BSDFSample {
     double f = 0;      // sr^-1 (per band group: the same for all bands of a group)

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/material_kinds.h"
 #include "core/probe_quantities.h"
 #include "core/render_budget.h"
 #include "core/resource_limits.h"
@@ -197,24 +198,21 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
                                          : "";
 }
 
-// The dirsig solver of each material: the one it names, or the default for its type.
+// The dirsig solver of each material: the one it names, if its type's descriptor allows it
+// (core/material_kinds.h), or its type's default.
 void readDirsigSolvers(const ir::SceneIR& ir, RenderConfig* c) {
-    using S = ir::Material::Solver;
-    using T = ir::Material::Type;
     for (size_t i = 0; i < ir.materials.size(); ++i) {
         const ir::Material& m = ir.materials[i];
-        const bool diffuse = m.type == T::Lambertian || m.type == T::Textured;
-        const bool interface = m.type == T::Dielectric || m.type == T::RoughDielectric;
-        S solver = interface ? S::Fresnel : S::Classic;
+        const MaterialKind& kind = materialKind(m.type);
+        ir::Material::Solver solver = kind.defaultSolver;
         if (m.solver) {
             solver = *m.solver;
-            if (!diffuse && !interface)
-                materialError(m, i, fmt::format("a {} material has no radiometry solver; remove solver '{}'",
-                                                nameOf(m.type), nameOf(solver)));
-            if (diffuse && solver == S::Fresnel)
-                materialError(m, i, "solver fresnel cannot evaluate a diffuse material (use classic, generic or surface-pm)");
-            if (interface && solver != S::Fresnel && solver != S::Generic)
-                materialError(m, i, fmt::format("an interface needs the fresnel (or generic) solver, not {}", nameOf(solver)));
+            if (kind.namedSolvers.empty())
+                materialError(m, i, fmt::format("a {} material takes no solver ({}); remove solver '{}'", kind.info.name,
+                                                kind.noSolverWhy, nameOf(solver)));
+            if (std::find(kind.namedSolvers.begin(), kind.namedSolvers.end(), solver) == kind.namedSolvers.end())
+                materialError(m, i, fmt::format("solver {} cannot evaluate a {} material (allowed: {})", nameOf(solver),
+                                                kind.info.name, solverList(kind.namedSolvers)));
         }
         c->solvers.push_back(solver);
     }

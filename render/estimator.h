@@ -30,6 +30,12 @@
 
 namespace littoral::render {
 
+// Statistics counters (core/stats.h) of the path estimator: paths started at a camera or probe,
+// and paths that reached render.max_bounces with weight left (their radiance beyond is lost;
+// runRenderJob warns with the fraction).
+inline constexpr const char* kPathsTraced = "path estimator: paths traced";
+inline constexpr const char* kPathsCut = "path estimator: paths cut at render.max_bounces";
+
 // The render settings, resolved (defaults applied, ranges checked) for the chosen estimator.
 struct RenderConfig {
     ir::Estimator estimator = ir::Estimator::Dirsig;

@@ -112,6 +112,7 @@ private:
         Spec L, beta;
     };
     enum class Flight { Scattered, Reached, Ended };  // Reached: the surface *h if *hit, else escaped
+    static Flight cutAtMaxBounces();  // counts a path cut with weight left; Ended
     // The segment from s.ray to the next medium collision (sun estimates, roulette and the new
     // direction: Scattered) or to the surface or the sky (Reached); Ended if the path ends.
     Flight fly(PathState& s, SurfaceHit* h, bool* hit, RandomStream& rng) const;
@@ -246,7 +247,17 @@ Spec PathEstimator::sunInScatter(const Ray& ray, double tMax, int medium, Random
     return L;
 }
 
+// A path whose weight is not zero ends at render.max_bounces: counted, so that the render can say
+// how much radiance the limit cut (render_job.cpp warns).
+PathEstimator::Flight PathEstimator::cutAtMaxBounces() {
+    static StatCounter& cut = statCounter(kPathsCut);
+    cut.add();
+    return Flight::Ended;
+}
+
 Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const {
+    static StatCounter& paths = statCounter(kPathsTraced);
+    if (w.vertices == 0 && w.specular == 0) paths.add();
     const int nb = group_.count;
     PathState s{ray, medium, chain, w, Spec(nb), Spec(nb, 1.0)};
     for (;;) {
@@ -290,7 +301,8 @@ PathEstimator::Flight PathEstimator::fly(PathState& s, SurfaceHit* h, bool* hit,
     }
     s.beta *= ff.weight;
     if (!ff.scattered) return s.beta.isBlack() ? Flight::Ended : Flight::Reached;
-    if (s.beta.isBlack() || ++s.w.vertices > config_.maxBounces) return Flight::Ended;
+    if (s.beta.isBlack()) return Flight::Ended;
+    if (++s.w.vertices > config_.maxBounces) return cutAtMaxBounces();
     const Point3 x = s.ray.at(ff.t);
     if (!marched) {
         // Collision estimator of the sun scattered here toward the previous vertex.
@@ -347,7 +359,7 @@ bool PathEstimator::atSurface(PathState& s, const SurfaceHit& h, RandomStream& r
 bool PathEstimator::diffuseVertex(PathState& s, const SurfaceHit& h, const BxDF& bxdf, RandomStream& rng) const {
     const Spec rho = scene_.albedo(h, group_);
     if (rho.isBlack()) return false;
-    if (++s.w.vertices > config_.maxBounces) return false;
+    if (++s.w.vertices > config_.maxBounces) return cutAtMaxBounces() != Flight::Ended;
     const Normal3 n = h.front ? h.ng : -h.ng;
     const SunBeam sun = sun_.sample(h.p, h.ng, n, s.medium, rng);
     if (sun.valid) s.L += s.beta * rho * sun.E * (std::max(0.0, dot(sun.toSun, n)) * kInvPi);

@@ -166,16 +166,28 @@ void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry) {
     for (const QuantityKind& k : quantityKinds().kinds()) registry.add(k.info);
 }
 
-std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
-                                      int probeIndex, const RenderOptions& opts) {
+void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& probe) {
     const std::string who = fmt::format("probe '{}'", probe.name);
     const int medium = scene.mediumIndex(probe.medium, who + " medium");
     checkNotInsideOpaque(scene, probe.position, who);
-    const RenderConfig& cfg = estimators.config();
+    checkClearOfSurfaces(scene, probe.position, who);
+    checkDeclaredMedium(scene, probe.position, medium, who);
     const int B = cfg.probeBatches;
     const int N = probe.samples.value_or(cfg.probeSamples);
     if (N < B)
-        throw InputError(fmt::format("{}: {} samples cannot form {} batches (render.probe_batches)", who, N, B));
+        throw InputError(fmt::format("{}: {} samples cannot form {} batches (render.probe_batches: set samples to at "
+                                     "least {} or lower probe_batches)",
+                                     who, N, B, B));
+}
+
+std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
+                                      int probeIndex, const RenderOptions& opts) {
+    const std::string who = fmt::format("probe '{}'", probe.name);
+    const RenderConfig& cfg = estimators.config();
+    checkProbe(scene, cfg, probe);
+    const int medium = scene.mediumIndex(probe.medium, who + " medium");
+    const int B = cfg.probeBatches;
+    const int N = probe.samples.value_or(cfg.probeSamples);
     const int perBatch = N / B;  // a remainder of fewer than B samples is not drawn
     // Work is cut into chunks of at most kChunk samples inside each batch; each chunk is summed by
     // one task and the chunk sums are added in a fixed order, so the result does not depend on

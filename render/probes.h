@@ -37,6 +37,10 @@ struct ProbeValue {
     int samples = 0, batches = 0;
 };
 
+// The checks evaluateProbe makes before sampling: the probe's medium exists, the probe is not
+// inside an opaque object, and its samples form render.probe_batches batches. InputError.
+void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& probe);
+
 // Evaluates every quantity of one probe. InputError for an unknown quantity, an unknown medium or
 // a probe inside a closed opaque object.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,

@@ -5,6 +5,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "core/output_names.h"
 #include "core/render_budget.h"
 #include "core/suggest.h"
@@ -202,6 +203,36 @@ std::vector<const ir::Sensor*> selectSensors(const ir::SceneIR& ir, const std::s
     return sensors;
 }
 
+RenderOptions renderOptions(const ir::SceneIR& ir, const RenderJobOptions& opts) {
+    RenderOptions ro;
+    // --threads wins; otherwise the scene's render.threads (0: all cores).
+    ro.threads = opts.threads > 0 ? opts.threads : ir.render.threads;
+    ro.progress = opts.progress;
+    return ro;
+}
+
+// The checks that need the scene but no radiance, before any rendering time is spent: the
+// settings, every selected sensor's view (its truth image) and every probe's plan.
+RenderConfig checkBeforeRendering(const ir::SceneIR& ir, const Scene& scene, const std::vector<const ir::Sensor*>& sensors,
+                                  const RenderJobOptions& opts, const RenderOptions& ro) {
+    RenderConfig config = makeRenderConfig(ir);
+    for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
+    if (opts.sensor.empty())
+        for (const ir::Probe& p : ir.probes) checkProbe(scene, config, p);
+    return config;
+}
+
+// The path estimator's paths cut at render.max_bounces during this job (counters before: traced0,
+// cut0): a warning with the fraction, since the radiance they would have carried is missing.
+void warnIfPathsWereCut(int64_t traced0, int64_t cut0, const RenderConfig& config) {
+    const int64_t traced = statCounter(kPathsTraced).value - traced0, cut = statCounter(kPathsCut).value - cut0;
+    if (traced <= 0 || cut <= 0 || static_cast<double>(cut) < 1e-4 * static_cast<double>(traced)) return;
+    log::warn("{:.3g} % of the path estimator's paths ({} of {}) reached render.max_bounces = {} with weight left and "
+              "were cut: the radiance they would carry is missing (the images and probes are low). Raise "
+              "render.max_bounces (dense, weakly absorbing water needs many bounces)",
+              100.0 * static_cast<double>(cut) / static_cast<double>(traced), cut, traced, config.maxBounces);
+}
+
 // Writes every image set and the probe tables (the run's outputs, through atomic temporaries).
 void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesystem::path& outDir,
                   const RenderJobOptions& opts, RenderJobResult& res) {
@@ -241,15 +272,11 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     const Scene scene(ir, irDir);
     const std::vector<const ir::Sensor*> sensors = selectSensors(ir, opts.sensor);
 
-    RenderOptions ro;
-    // --threads wins; otherwise the scene's render.threads (0: all cores).
-    ro.threads = opts.threads > 0 ? opts.threads : ir.render.threads;
-    ro.progress = opts.progress;
+    RenderOptions ro = renderOptions(ir, opts);
     RenderJobResult res;
-    const RenderConfig config = makeRenderConfig(ir);  // settings checked before any work
-    // Validate every sensor's view before spending time on radiance.
-    for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
+    const RenderConfig config = checkBeforeRendering(ir, scene, sensors, opts, ro);
     const bool probesToo = opts.sensor.empty();
+    const int64_t traced0 = statCounter(kPathsTraced).value, cut0 = statCounter(kPathsCut).value;
 
     // Progressive passes (one unless photon maps with render.progressive.passes > 1).
     const int passes = config.usesPhotons() ? config.passes : 1;
@@ -288,16 +315,59 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         }
         if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
     }
+    warnIfPathsWereCut(traced0, cut0, config);
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
     return res;
 }
 
+namespace {
+// A render-time InputError without a location that names an IR entry ("material 'sand': ...") is
+// located at scene.json and that entry's JSON path ("materials[2]: material 'sand': ..."), so a
+// hand-edited IR's mistake names the file and the key.
+template <class T>
+bool atEntry(const InputError& e, const std::vector<T>& entries, const char* what, const char* key,
+             const std::filesystem::path& file) {
+    for (size_t i = 0; i < entries.size(); ++i)
+        if (e.message().rfind(fmt::format("{} '{}'", what, entries[i].name), 0) == 0)
+            throw InputError(SourceLoc{file.string()}, fmt::format("{}[{}]: {}", key, i, e.message()));
+    return false;
+}
+}  // namespace
+
+void rethrowAtIrEntry(const InputError& e, const ir::SceneIR& ir, const std::filesystem::path& file) {
+    if (e.where().file.empty()) {
+        atEntry(e, ir.materials, "material", "materials", file);
+        atEntry(e, ir.media, "medium", "media", file);
+        atEntry(e, ir.meshes, "mesh", "meshes", file);
+        atEntry(e, ir.sensors, "sensor", "sensors", file);
+        atEntry(e, ir.probes, "probe", "probes", file);
+    }
+    throw e;
+}
+
+void preflightRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir, const RenderJobOptions& opts) {
+    ir::validateNamesAndPaths(ir, (irDir / "scene.json").string());
+    checkRenderMemory(ir, opts.sensor, SourceLoc{(irDir / "scene.json").string()});
+    const Scene scene(ir, irDir);
+    if (ir.sensors.empty() && ir.probes.empty()) {
+        // A scene may be built for its geometry alone; only a render of it is refused.
+        log::warn("the scene has no sensors and no probes: `run` and `render` would have nothing to render");
+        return;
+    }
+    const std::vector<const ir::Sensor*> sensors = selectSensors(ir, opts.sensor);
+    (void)checkBeforeRendering(ir, scene, sensors, opts, renderOptions(ir, opts));
+}
+
 RenderJobResult runRenderJob(const std::filesystem::path& irDir, const std::filesystem::path& outDir,
                              const RenderJobOptions& opts) {
     const ir::SceneIR ir = ir::readIR(irDir);
-    return runRenderJob(ir, irDir, outDir, opts);
+    try {
+        return runRenderJob(ir, irDir, outDir, opts);
+    } catch (const InputError& e) {
+        rethrowAtIrEntry(e, ir, irDir / "scene.json");
+    }
 }
 
 }  // namespace littoral::render

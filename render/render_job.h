@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/scene_ir.h"
 #include "render/probes.h"
 #include "render/image_output.h"
@@ -48,7 +49,18 @@ struct RenderJobResult {
 // Renders an IR already in memory (`irDir` resolves textures) and writes the outputs.
 RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
                              const std::filesystem::path& outDir, const RenderJobOptions& opts);
-// Reads the IR from `irDir` (ir::readIR) and runs the job.
+// Every check runRenderJob makes before it renders, except those on the output folder: the
+// names, the memory budget, the scene on its bands (materials, media, textures, class maps,
+// instance transforms), the estimator's settings, the sensor selection and every sensor's view
+// (its truth image is traced), and every probe's medium, position and sample plan. InputError
+// exactly as runRenderJob would throw it; nothing is written. `check-scene` runs it.
+void preflightRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir, const RenderJobOptions& opts);
+// Rethrows `e`, located at `file` (scene.json) and the JSON path of the IR entry it names when it
+// has no location and begins with "material 'x'", "medium 'x'", "mesh 'x'", "sensor 'x'" or
+// "probe 'x'" (so a hand-edited IR's mistake names the file and the key).
+[[noreturn]] void rethrowAtIrEntry(const InputError& e, const ir::SceneIR& ir, const std::filesystem::path& file);
+// Reads the IR from `irDir` (ir::readIR) and runs the job; render-time errors name scene.json and
+// the entry (rethrowAtIrEntry).
 RenderJobResult runRenderJob(const std::filesystem::path& irDir, const std::filesystem::path& outDir,
                              const RenderJobOptions& opts);
 

@@ -105,9 +105,16 @@ void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string
     });
 }
 
-// Warns when the medium the sensor declares disagrees with the interfaces around it (e.g. a camera
-// placed inside a water volume but declared in air: its first segment would not be attenuated).
-static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declared, const std::string& who) {
+// Refuses a medium the camera or probe declares that disagrees with the interfaces around it (e.g.
+// a camera inside a water volume declared in air: its first segment would not be attenuated, and
+// a probe in air declared in water would attenuate and refract what it reads). Says nothing when
+// the surroundings are ambiguous (the six axis rays see different media).
+std::string mediumName(const Scene& scene, int m) {
+    const std::string& n = scene.media()[static_cast<size_t>(m)].name();
+    return n.empty() ? "air" : n;
+}
+
+void checkDeclaredMedium(const Scene& scene, const Point3& p, int declared, const std::string& who) {
     int seen = -1, votes = 0;
     bool ambiguous = false;
     forEachAxisHit(scene, p, [&](const SurfaceHit& h) {
@@ -119,8 +126,20 @@ static void warnIfMediumMismatch(const Scene& scene, const Point3& p, int declar
         return true;
     });
     if (!ambiguous && votes > 0 && seen != declared)
-        log::warn("{}: declared in medium '{}' but the surrounding interfaces say '{}'", who,
-                  scene.media()[declared].name(), scene.media()[seen].name());
+        throw InputError(fmt::format("{}: declared in medium '{}', but the interfaces around its position ({}, {}, {}) "
+                                     "put it in '{}' (a scene file's medium: auto chooses by the water level)",
+                                     who, mediumName(scene, declared), p.x, p.y, p.z, mediumName(scene, seen)));
+}
+
+void checkClearOfSurfaces(const Scene& scene, const Point3& p, const std::string& who) {
+    forEachAxisHit(scene, p, [&](const SurfaceHit& h) {
+        const MaterialData& m = scene.material(h);
+        if (!m.isOpaque() || h.t >= kSurfaceClearance) return true;
+        throw InputError(fmt::format("{}: position ({}, {}, {}) lies {:.3g} m from the surface of mesh '{}' (material "
+                                     "'{}'), closer than {} m: its rays would start on the surface and one side would "
+                                     "read nothing; move it off the surface",
+                                     who, p.x, p.y, p.z, h.t, scene.ir().meshes[h.mesh].name, m.name, kSurfaceClearance));
+    });
 }
 
 TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
@@ -129,7 +148,7 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
     const int medium = scene.mediumIndex(sensor.medium, who + " medium");
     if (sensor.type == ir::Sensor::Type::Pinhole) {
         checkNotInsideOpaque(scene, sensor.position, who);
-        warnIfMediumMismatch(scene, sensor.position, medium, who);
+        checkDeclaredMedium(scene, sensor.position, medium, who);
     }
     TruthImages truth(cam.width(), cam.height());
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);

@@ -48,5 +48,12 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
 
 // Throws InputError if the point lies inside a closed mesh with an opaque material.
 void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who);
+// Throws InputError if an opaque surface lies closer than kSurfaceClearance to the point along one
+// of the six axis directions (a probe on the seabed would read 0 from below).
+inline constexpr double kSurfaceClearance = 1e-4;  // m
+void checkClearOfSurfaces(const Scene& scene, const Point3& p, const std::string& who);
+// Throws InputError if `declared` (a medium index) disagrees with the media the interfaces around
+// the point put it in; nothing when they are ambiguous or absent.
+void checkDeclaredMedium(const Scene& scene, const Point3& p, int declared, const std::string& who);
 
 }  // namespace littoral::render

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/material_kinds.h"
 #include "core/suggest.h"
 
 namespace littoral::render {
@@ -83,6 +84,7 @@ MaterialData makeMaterial(const ir::Material& m, const std::vector<Band>& bands,
     MaterialData d;
     d.name = m.name;
     d.type = m.type;
+    d.lobes = materialKind(m.type).lobes;
     d.solver = m.solver;
     const std::string who = fmt::format("material '{}'", m.name);
     using T = ir::Material::Type;
@@ -169,7 +171,7 @@ void Scene::resolveClassMaps() {
                 throw InputError(fmt::format("{}: class {} names material '{}', which is not defined", who, v,
                                              m.classMaterials[v]));
             const auto t = ir.materials[static_cast<size_t>(d.classMaterial[v])].type;
-            if (t != ir::Material::Type::Lambertian && t != ir::Material::Type::Textured)
+            if (!materialKind(t).hasReflectance)
                 throw InputError(fmt::format("{}: class {} names material '{}', which is {}; classes must be diffuse "
                                              "(lambertian or textured)",
                                              who, v, m.classMaterials[v], nameOf(t)));

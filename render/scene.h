@@ -62,23 +62,17 @@ struct MaterialData {
     // value does not occur). Scene::materialIndex resolves a hit through it.
     std::shared_ptr<const ClassRaster> classMap;
     std::vector<int> classMaterial;
+    // The lobes of the BxDF Scene::bxdf builds for this material, from its type's descriptor
+    // (core/material_kinds.h): kTransmission for interfaces, kSpecular or kGlossy for smooth or
+    // rough ones, kDiffuse for the rest; 0 for periodic walls, which are domain edges, not
+    // surfaces. Transport decides by them without building the BxDF.
+    uint8_t lobes = kReflection | kDiffuse;
+    uint8_t bxdfFlags() const { return lobes; }
     // Interfaces let light through to the mesh's other medium; everything else is opaque.
-    bool isInterface() const {
-        return type == ir::Material::Type::Dielectric || type == ir::Material::Type::RoughDielectric;
-    }
-    bool isRough() const { return type == ir::Material::Type::RoughDielectric; }
-    bool isOpaque() const { return !isInterface() && type != ir::Material::Type::Periodic; }
-    bool isPeriodicWall() const { return type == ir::Material::Type::Periodic; }
-    // The flags of the BxDF Scene::bxdf builds for this material (kTransmission for interfaces,
-    // kSpecular or kGlossy for smooth or rough ones, kDiffuse for the rest; 0 for periodic walls,
-    // which are domain edges, not surfaces): transport decides by them without building the BxDF.
-    uint8_t bxdfFlags() const {
-        using T = ir::Material::Type;
-        if (type == T::RoughDielectric) return kReflection | kTransmission | kGlossy;
-        if (type == T::Dielectric) return kReflection | kTransmission | kSpecular;
-        if (type == T::Periodic) return 0;
-        return kReflection | kDiffuse;
-    }
+    bool isInterface() const { return lobes & kTransmission; }
+    bool isRough() const { return isInterface() && (lobes & kGlossy); }
+    bool isOpaque() const { return !isInterface() && !isPeriodicWall(); }
+    bool isPeriodicWall() const { return lobes == 0; }
 };
 
 // Reads a texture with OpenImageIO (first channel, converted to float). InputError if it cannot.

@@ -15,6 +15,7 @@
 #include "bathymetry/terrain.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/suggest.h"
 #include "core/log.h"
 #include "scenegen/assembly_sections.h"
 #include "scenegen/mesh_validity.h"
@@ -143,6 +144,11 @@ struct MaterialNames {
         ir->materials.push_back(m);
         known.insert(m.name);
     }
+    // "; did you mean 'sand'?" for a misspelt name, "" when nothing is close.
+    std::string suggest(const std::string& name) const {
+        const std::string near = closestMatch(name, std::vector<std::string>(known.begin(), known.end()));
+        return near.empty() ? "" : fmt::format("; did you mean '{}'?", near);
+    }
 };
 
 MaterialNames materialNames(const SceneSpec& spec, const ir::SceneIR& ir) {
@@ -160,8 +166,8 @@ std::string objectMedium(const ObjectSpec& o, const MaterialNames& names) {
     for (const auto& m : o.materials) {
         if (!names.known.count(m))
             throw InputError(o.loc, fmt::format("object '{}': material '{}' is not defined under 'materials' or "
-                                                "texture_classes",
-                                                o.name, m));
+                                                "texture_classes{}",
+                                                o.name, m, names.suggest(m)));
         if (!names.dielectrics.count(m) || m == medium) continue;
         if (!medium.empty())
             throw InputError(o.loc, fmt::format("object '{}' uses two dielectrics, '{}' and '{}'; an object is "
@@ -337,8 +343,8 @@ std::vector<std::string> Assembly::terrainMaterials() {
         throw InputError(bathy.loc, "bathymetry: name the ground material with 'material' (one of 'materials') or "
                                     "add a texture_classes section");
     if (!names_.known.count(bathy.material))
-        throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'",
-                                                bathy.material));
+        throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is not defined under 'materials'{}",
+                                                bathy.material, names_.suggest(bathy.material)));
     if (names_.dielectrics.count(bathy.material))
         throw InputError(bathy.loc, fmt::format("bathymetry.material '{}' is a dielectric; the ground must be "
                                                 "opaque (dielectrics are for objects)",
@@ -584,6 +590,7 @@ AssembledScene buildScene(const std::filesystem::path& sceneYaml, const std::fil
         msg += outDir.empty() ? "" : "\n  details: " + (outDir / "validity.json").string();
         throw InputError(SourceLoc{sceneYaml.string()}, msg);
     }
+    if (options.beforeWrite) options.beforeWrite(spec, s);
     if (!outDir.empty()) {
         t = Clock::now();
         s.seconds.write = 0;

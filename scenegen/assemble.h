@@ -12,6 +12,7 @@
 // interface, seabed classes, object hull-contact faces, domain walls), "land" (open terrain surface
 // above the water), and one closed mesh per object (named after it).
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -23,9 +24,14 @@
 
 namespace littoral::scenegen {
 
+struct AssembledScene;
+
 struct AssembleOptions {
     std::optional<size_t> surfaceTriangles;  // overrides water.surface's triangle target
     bool checkSelfIntersections = true;
+    // buildScene: run on the valid scene before anything is written (the commands pass the
+    // renderer's checks, so that build, run and check-scene refuse the same scenes).
+    std::function<void(const SceneSpec&, const AssembledScene&)> beforeWrite;
 };
 
 // Wall-clock seconds per stage.

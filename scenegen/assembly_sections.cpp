@@ -1,4 +1,6 @@
 #include "scenegen/assembly_sections.h"
+
+#include "core/material_kinds.h"
 #include "scenegen/scene_file.h"
 
 #include <set>
@@ -185,7 +187,13 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         if (s.stddev > 0 && !s.texture) c["stddev"].fail("a standard deviation needs a 'texture' image to shape");
         // Optional: only a solver written in the file is set (the dirsig estimator defaults to
         // classic; other estimators refuse per-material solvers).
-        if (auto sv = c.optional("solver")) s.solver = sv->asEnum({"classic", "generic", "surface-pm"});
+        // A class becomes a lambertian or textured material: the solvers those types take.
+        if (auto sv = c.optional("solver")) {
+            std::vector<std::string> solvers;
+            for (ir::Material::Solver x : materialKind(ir::Material::Type::Textured).namedSolvers)
+                solvers.emplace_back(nameOf(x));
+            s.solver = sv->asEnum(solvers);
+        }
         t.classes.push_back(std::move(s));
     }
     if (t.classes.empty()) n["classes"].fail("define at least one class");

@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/kinds.h"
+#include "core/material_kinds.h"
 #include "core/output_names.h"
 #include "core/phase_functions.h"
 #include "core/probe_quantities.h"
@@ -231,19 +232,31 @@ ProbeSection parseProbe(const YamlNode& n) {
     return p;
 }
 
+// A `materials` entry: its type (a scene-file material type of core/material_kinds.h) and the
+// keys that type takes; a key of another type is refused, naming the types that take it.
 MaterialSection parseMaterial(const YamlNode& n) {
-    n.expectKeys({"name", "type", "reflectance", "solver", "refractive_index", "absorption_per_m"});
+    std::vector<std::string> keys{"name", "type"};
+    for (const MaterialKind& k : materialKinds().kinds())
+        for (const std::string& key : k.sceneKeys)
+            if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    n.expectKeys(keys);
     MaterialSection m;
     m.loc = n.loc();
     m.name = n["name"].asString();
-    m.type = n.getEnum("type", "lambertian", {"lambertian", "black", "dielectric"});
-    if (m.type == "dielectric") {
+    m.type = n.getEnum("type", "lambertian", sceneMaterialTypeNames());
+    const MaterialKind& kind = *materialKinds().find(m.type);
+    for (size_t i = 2; i < keys.size(); ++i) {
+        if (!n.has(keys[i]) || kind.takesSceneKey(keys[i])) continue;
+        if (keys[i] == "solver")
+            n["solver"].fail(fmt::format("a {} material takes no solver ({}); remove 'solver'", m.type, kind.noSolverWhy));
+        if (keys[i] == "reflectance")
+            n["reflectance"].fail(fmt::format("a {} material has no reflectance: {}; remove 'reflectance'", m.type, kind.info.doc));
+        n[keys[i]].fail(fmt::format("a {} material does not take '{}'; it is a key of: {}", m.type, keys[i],
+                                    sceneTypesWithKey(keys[i])));
+    }
+    if (kind.type == ir::Material::Type::Dielectric) {
         // A transparent solid (glass, epoxy, ice): a smooth Fresnel interface around a medium of
         // this index and absorption. Objects use it; light refracts through it (docs/scene-format.md).
-        if (n.has("reflectance"))
-            n["reflectance"].fail("a dielectric reflects by Fresnel's law from its refractive_index; remove 'reflectance'");
-        if (n.has("solver"))
-            n["solver"].fail("a dielectric's faces are evaluated by the Fresnel solver (Table 10.4); remove 'solver'");
         if (m.name == "water")
             n["name"].fail("'water' is the name of the medium Littoral builds from water.optics; choose another name for "
                            "this dielectric");
@@ -252,19 +265,13 @@ MaterialSection parseMaterial(const YamlNode& n) {
                    "{file}, in [1, 3]; e.g. 1.5 for glass, 1.55 for epoxy)");
         m.refractiveIndex = parseSpectrum(n["refractive_index"], 1.0, 3.0, "");
         if (auto a = n.optional("absorption_per_m")) m.absorption = parseSpectrum(*a, 0, 1000, "m^-1");
-        return m;
     }
-    for (const char* k : {"refractive_index", "absorption_per_m"})
-        if (n.has(k)) n[k].fail(fmt::format("only a dielectric material has '{}' (this one is {})", k, m.type));
     if (auto sv = n.optional("solver")) {
-        if (m.type == "black") sv->fail("a black material has no radiometry solver; remove 'solver'");
-        m.solver = sv->asEnum({"classic", "generic", "surface-pm"});
+        std::vector<std::string> solvers;
+        for (ir::Material::Solver x : kind.namedSolvers) solvers.emplace_back(nameOf(x));
+        m.solver = sv->asEnum(solvers);
     }
-    if (m.type == "black") {
-        if (n.has("reflectance")) n["reflectance"].fail("a black material reflects nothing; remove 'reflectance'");
-    } else {
-        m.reflectance = parseSpectrum(n["reflectance"], 0, 1, "(reflectance)");
-    }
+    if (kind.hasReflectance) m.reflectance = parseSpectrum(n["reflectance"], 0, 1, "(reflectance)");
     return m;
 }
 
@@ -745,7 +752,7 @@ void applyMaterials(const SceneSpec& spec, ir::SceneIR* ir) {
     for (const auto& m : spec.materials) {
         ir::Material mt;
         mt.name = m.name;
-        if (m.type == "dielectric") {
+        if (materialKinds().find(m.type)->type == ir::Material::Type::Dielectric) {
             // A smooth interface around a medium of the material's name: the objects that use it get
             // that medium inside (scenegen/assemble.cpp).
             mt.type = ir::Material::Type::Dielectric;
@@ -761,7 +768,7 @@ void applyMaterials(const SceneSpec& spec, ir::SceneIR* ir) {
             ir->media.push_back(md);
             continue;
         }
-        mt.type = m.type == "black" ? ir::Material::Type::Black : ir::Material::Type::Lambertian;
+        mt.type = materialKinds().find(m.type)->type;
         if (!m.solver.empty()) mt.solver = parseName<ir::Material::Solver>(m.solver);
         mt.reflectance = m.reflectance;
         mt.origin = m.loc;

@@ -318,7 +318,7 @@ TEST(DielectricObject, MissingIndexIsALocatedError) {
         {"no-index", "{name: glass, type: dielectric, absorption_per_m: 0.2}", ":15:5",
          "a dielectric needs 'refractive_index'"},
         {"reflectance", "{name: glass, type: dielectric, refractive_index: 1.5, reflectance: 0.3}", ":15:",
-         "a dielectric reflects by Fresnel's law"},
+         "a dielectric material has no reflectance: a smooth Fresnel interface"},
         {"index-low", "{name: glass, type: dielectric, refractive_index: 0.9}", ":15:", "0.9 is out of range"},
     };
     for (const Case& c : cases) {

@@ -14,9 +14,11 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "core/kinds.h"
+#include "core/material_kinds.h"
 #include "core/phase_functions.h"
 #include "core/probe_quantities.h"
 #include "core/scene_ir.h"
@@ -365,4 +367,168 @@ TEST(KindDescriptors, ProbeQuantitiesMatchTheParserAndTheRenderer) {
     const std::string msg =
         parseError("scene: {name: kinds}\nprobes:\n  - {name: p, position: [0, 0, 1], quantities: [Eud]}\n");
     EXPECT_NE(msg.find("did you mean"), std::string::npos) << msg;
+}
+
+// ---- material types ---------------------------------------------------------------------------
+
+namespace {
+
+std::string lobeText(uint8_t f) {
+    std::vector<std::string> v;
+    if (f & kReflection) v.push_back("reflection");
+    if (f & kTransmission) v.push_back("transmission");
+    if (f & kDiffuse) v.push_back("diffuse");
+    if (f & kSpecular) v.push_back("specular");
+    if (f & kGlossy) v.push_back("glossy");
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s.empty() ? "—" : s;
+}
+
+// The IR text of one material of `kind`, every key it needs present, `key` set to `value` (JSON).
+std::string materialIr(const MaterialKind& kind, const std::string& key, const std::string& value) {
+    ir::SceneIR s;
+    ir::Material m;
+    m.name = "m";
+    m.type = kind.type;
+    m.windSpeed = 5;
+    if (kind.hasReflectance) m.reflectance = Spectrum::constant(0.5);
+    m.texture = "t.tif";
+    m.classMaterials = {"m"};
+    s.materials.push_back(m);
+    if (key.empty()) return ir::toJsonText(s);
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(ir::toJsonText(s));
+    if (!key.empty()) j["materials"][0][key] = nlohmann::ordered_json::parse(value);
+    return j.dump(2);
+}
+
+std::string irError(const std::string& text) {
+    try {
+        (void)ir::fromJsonText(text, "scene.json");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(KindDescriptors, EveryMaterialTypeHasOneDescriptorAndTheDocsListThem) {
+    // Every enumerator of ir::Material::Type is registered once, and the docs' table lists the
+    // registered types with their lobes, solvers and doc line.
+    std::set<std::string> names;
+    for (const auto& e : EnumNames<ir::Material::Type>::table) {
+        const MaterialKind& k = materialKind(e.value);
+        EXPECT_EQ(k.info.name, e.name);
+        EXPECT_EQ(k.info.family, "material type");
+        names.insert(k.info.name);
+    }
+    EXPECT_EQ(names.size(), materialKinds().kinds().size());
+    std::vector<std::string> documented;
+    for (const auto& row : docsTable("material type")) {
+        ASSERT_EQ(row.size(), 6u);
+        const MaterialKind* k = materialKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        documented.push_back(row[0]);
+        EXPECT_EQ(row[1], k->inSceneFiles ? "yes" : "no") << row[0];
+        EXPECT_EQ(row[2], lobeText(k->lobes)) << row[0];
+        EXPECT_EQ(row[3], std::string(nameOf(k->defaultSolver))) << row[0];
+        EXPECT_EQ(row[4], k->namedSolvers.empty() ? "—" : solverList(k->namedSolvers)) << row[0];
+        EXPECT_EQ(row[5], k->info.doc) << row[0];
+    }
+    EXPECT_EQ(documented, materialKinds().names());
+    // The key table: exactly the keys each type uses, numbers with the descriptor's range.
+    std::set<std::pair<std::string, std::string>> keys, registered;
+    for (const auto& row : docsTable("material type key")) {
+        keys.insert({row[0], row[1]});
+        const MaterialKind* k = materialKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        if (const ParamSpec* p = k->info.param(row[1])) {
+            EXPECT_EQ(row[3], p->rangeText()) << row[0] << " " << row[1];
+            EXPECT_EQ(row[2], p->defaultValue ? formatValue(p->defaultParamValue()) : "required") << row[1];
+        }
+    }
+    for (const MaterialKind& k : materialKinds().kinds()) {
+        if (k.hasReflectance) registered.insert({k.info.name, "reflectance"});
+        for (const ParamSpec& p : k.info.params) registered.insert({k.info.name, p.name});
+        for (const std::string& key : k.irKeys) registered.insert({k.info.name, key});
+    }
+    EXPECT_EQ(keys, registered);
+    // The scene file's type list is the descriptors' (the materials table's allowed values).
+    EXPECT_EQ(sceneMaterialTypeNames(), (std::vector<std::string>{"lambertian", "dielectric", "black"}));
+}
+
+TEST(KindDescriptors, MaterialTypeNumbersMatchTheIrReader) {
+    for (const MaterialKind& k : materialKinds().kinds()) {
+        SCOPED_TRACE(k.info.name);
+        // The complete material round-trips byte-identically.
+        const std::string text = materialIr(k, "", "");
+        ASSERT_EQ(irError(text), "") << text;
+        EXPECT_EQ(ir::toJsonText(ir::fromJsonText(text, "scene.json")), text);
+        for (const ParamSpec& p : k.info.params) {
+            SCOPED_TRACE(p.name);
+            for (const Trial& t : insideValues(p)) {
+                const std::string e = irError(materialIr(k, p.name, t.text));
+                EXPECT_EQ(e, "") << t.text;
+                if (!e.empty()) continue;
+                const ir::Material m = ir::fromJsonText(materialIr(k, p.name, t.text), "scene.json").materials[0];
+                const double got = p.name == "wind_speed_mps"     ? m.windSpeed
+                                   : p.name == "wind_azimuth_rad" ? m.windAzimuth
+                                                                  : (m.gramCharlier ? 1.0 : 0.0);
+                EXPECT_EQ(got, numberOf(t.value));
+            }
+            for (const std::string& out : outsideTexts(p)) {
+                const std::string e = irError(materialIr(k, p.name, out));
+                EXPECT_NE(e.find("materials[0]." + p.name), std::string::npos) << e;
+                if (p.type != ParamType::Boolean) EXPECT_NE(e.find(p.rangeText()), std::string::npos) << e;
+            }
+        }
+    }
+    // A key of another type is refused, naming the types that use it.
+    const std::string e = irError(materialIr(materialKind(ir::Material::Type::Lambertian), "wind_speed_mps", "5"));
+    EXPECT_NE(e.find("materials[0].wind_speed_mps: a lambertian material does not use this key; it belongs to: "
+                     "rough-dielectric"),
+              std::string::npos)
+        << e;
+    // A reflectance on a type without one is refused.
+    const std::string r = irError(materialIr(materialKind(ir::Material::Type::Dielectric), "reflectance", "0.3"));
+    EXPECT_NE(r.find("materials[0].reflectance: a dielectric material has no reflectance"), std::string::npos) << r;
+    // An unknown type gets a did-you-mean.
+    const std::string u = irError(materialIr(materialKind(ir::Material::Type::Lambertian), "type", "\"lambertain\""));
+    EXPECT_NE(u.find("did you mean 'lambertian'"), std::string::npos) << u;
+}
+
+TEST(KindDescriptors, MaterialSceneKeysAndSolversMatchTheParser) {
+    const std::string base = "scene: {name: kinds}\nmaterials:\n  - {name: m, type: ";
+    for (const std::string& type : sceneMaterialTypeNames()) {
+        SCOPED_TRACE(type);
+        const MaterialKind& k = *materialKinds().find(type);
+        // Every scene key of another type is refused at the key, naming the types that take it.
+        for (const std::string& other : sceneMaterialTypeNames())
+            for (const std::string& key : materialKinds().find(other)->sceneKeys) {
+                if (k.takesSceneKey(key)) continue;
+                SourceLoc at;
+                const std::string e = parseError(base + type + ", " + key + ": 1.2}\n", &at);
+                EXPECT_FALSE(e.empty()) << key;
+                EXPECT_EQ(at.line, 3) << key << ": " << e;
+                if (key != "solver" && key != "reflectance")
+                    EXPECT_NE(e.find(sceneTypesWithKey(key)), std::string::npos) << e;
+            }
+    }
+    // The solvers a lambertian may name are exactly its descriptor's, and every interface refuses
+    // a solver in the IR too (`generic` on an interface changes nothing).
+    for (const auto& e : EnumNames<ir::Material::Solver>::table) {
+        const std::string err = parseError(base + "lambertian, reflectance: 0.2, solver: " + std::string(e.name) + "}\n");
+        const auto& ok = materialKind(ir::Material::Type::Lambertian).namedSolvers;
+        EXPECT_EQ(err.empty(), std::find(ok.begin(), ok.end(), e.value) != ok.end()) << e.name << ": " << err;
+    }
+    for (ir::Material::Type t : {ir::Material::Type::Dielectric, ir::Material::Type::RoughDielectric}) {
+        ir::SceneIR s = ir::fromJsonText(materialIr(materialKind(t), "solver", "\"generic\""), "scene.json");
+        try {
+            (void)render::makeRenderConfig(s);
+            ADD_FAILURE() << nameOf(t);
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("takes no solver"), std::string::npos) << e.what();
+        }
+    }
 }
