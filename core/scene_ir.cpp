@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/output_names.h"
 #include "core/phase_functions.h"
+#include "core/sensor_types.h"
 #include "core/suggest.h"
 #include "core/units.h"
 
@@ -144,12 +145,9 @@ Json sensorJson(const Sensor& c) {
                {"up", vecJson(c.up)},
                {"width", c.width},
                {"height", c.height}};
-    if (c.type == Sensor::Type::Pinhole) {
-        cj["focal_length_m"] = c.focalLength;
-        cj["pixel_pitch_m"] = c.pixelPitch;
-    } else {
-        cj["pixel_size_m"] = c.pixelSize;
-    }
+    // The parameters of the sensor's type (core/sensor_types.h), in metres.
+    const SensorKind& kind = sensorKind(c.type);
+    for (size_t i = 0; i < kind.info.params.size(); ++i) cj[kind.info.params[i].name] = c.*kind.fields[i].field;
     cj["samples_per_pixel"] = c.samplesPerPixel;
     cj["medium"] = c.medium;
     return cj;
@@ -574,8 +572,11 @@ Instance readInstance(const JReader& in, const SceneIR& s) {
 
 // One sensor; sizes are range-checked before narrowing.
 Sensor readSensor(const JReader& c, const SceneIR& s) {
-    c.expectKeys({"name", "type", "position_m", "forward", "up", "width", "height", "focal_length_m",
-                  "pixel_pitch_m", "pixel_size_m", "samples_per_pixel", "medium"});
+    // Any sensor type's parameters are allowed keys; those of this sensor's type are read.
+    std::vector<std::string> keys = {"name", "type", "position_m", "forward", "up", "width", "height"};
+    for (const std::string& k : sensorTypeKinds().allParamNames()) keys.push_back(k);
+    keys.insert(keys.end(), {"samples_per_pixel", "medium"});
+    c.expectKeys(keys);
     Sensor se;
     se.name = c["name"].str();
     se.type = c["type"].choice<Sensor::Type>();
@@ -589,12 +590,8 @@ Sensor readSensor(const JReader& c, const SceneIR& s) {
     }
     se.width = static_cast<int>(c["width"].integer());
     se.height = static_cast<int>(c["height"].integer());
-    if (se.type == Sensor::Type::Pinhole) {
-        se.focalLength = c["focal_length_m"].num();
-        se.pixelPitch = c["pixel_pitch_m"].num();
-    } else {
-        se.pixelSize = c["pixel_size_m"].num();
-    }
+    const SensorKind& kind = sensorKind(se.type);
+    for (size_t i = 0; i < kind.info.params.size(); ++i) se.*kind.fields[i].field = c[kind.info.params[i].name].num();
     se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
     se.medium = c["medium"].str();
     if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");

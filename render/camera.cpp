@@ -1,6 +1,7 @@
 #include "render/camera.h"
 
 #include <cmath>
+#include <iterator>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -35,9 +36,57 @@ ir::Sensor frameCamera(const std::string& name, const Point3& target, double vie
     return s;
 }
 
+namespace {
+
+// The factories: one per ir::Sensor::Type, each checking the parameters its descriptor
+// (core/sensor_types.h) declares.
+Projection makePinhole(const ir::Sensor& s, const std::string& who) {
+    if (!(s.focalLength > 0) || !(s.pixelPitch > 0))
+        throw InputError(fmt::format("{}: pinhole focalLength ({} m) and pixelPitch ({} m) must be positive", who,
+                                     s.focalLength, s.pixelPitch));
+    return PinholeProjection{s.focalLength, s.pixelPitch};
+}
+
+Projection makeOrthographic(const ir::Sensor& s, const std::string& who) {
+    if (!(s.pixelSize > 0))
+        throw InputError(fmt::format("{}: orthographic pixelSize ({} m) must be positive", who, s.pixelSize));
+    return OrthographicProjection{s.pixelSize};
+}
+
+struct SensorFactory {
+    ir::Sensor::Type type;
+    Projection (*make)(const ir::Sensor&, const std::string& who);
+};
+constexpr SensorFactory kSensorFactories[] = {
+    {ir::Sensor::Type::Pinhole, makePinhole},
+    {ir::Sensor::Type::Orthographic, makeOrthographic},
+};
+
+// One factory per type, in the order of the type's name table (core/scene_ir.h), which the sensor
+// descriptors follow too (checked when core/sensor_types.cpp builds them).
+constexpr bool everyTypeHasAFactory() {
+    const auto& types = EnumNames<ir::Sensor::Type>::table;
+    if (std::size(kSensorFactories) != std::size(types)) return false;
+    for (size_t i = 0; i < std::size(types); ++i)
+        if (kSensorFactories[i].type != types[i].value) return false;
+    return true;
+}
+static_assert(everyTypeHasAFactory(), "every ir::Sensor::Type needs exactly one entry in kSensorFactories");
+
+template <class... F> struct Overloaded : F... {
+    using F::operator()...;
+};
+
+Projection makeProjection(const ir::Sensor& s, const std::string& who) {
+    for (const SensorFactory& f : kSensorFactories)
+        if (f.type == s.type) return f.make(s, who);
+    throw InternalError(fmt::format("{}: sensor type {} has no factory", who, static_cast<int>(s.type)));
+}
+
+}  // namespace
+
 Camera::Camera(const ir::Sensor& s)
-    : name_(s.name), type_(s.type), position_(s.position), width_(s.width), height_(s.height),
-      spp_(s.samplesPerPixel), focal_(s.focalLength), pitch_(s.pixelPitch), size_(s.pixelSize) {
+    : name_(s.name), position_(s.position), width_(s.width), height_(s.height), spp_(s.samplesPerPixel) {
     const std::string who = fmt::format("sensor '{}'", s.name);
     if (s.width <= 0 || s.height <= 0)
         throw InputError(fmt::format("{}: image size {} x {} px: width and height must be positive", who, s.width,
@@ -54,26 +103,20 @@ Camera::Camera(const ir::Sensor& s)
                                      fmt::streamed(s.forward)));
     right_ = normalize(r);
     upOrtho_ = cross(right_, forward_);
-    if (type_ == ir::Sensor::Type::Pinhole) {
-        if (!(focal_ > 0) || !(pitch_ > 0))
-            throw InputError(fmt::format("{}: pinhole focalLength ({} m) and pixelPitch ({} m) must be positive", who,
-                                         focal_, pitch_));
-    } else if (!(size_ > 0)) {
-        throw InputError(fmt::format("{}: orthographic pixelSize ({} m) must be positive", who, size_));
-    }
+    projection_ = makeProjection(s, who);
 }
 
 Ray Camera::generateRay(double x, double y) const {
     const double dx = x - 0.5 * width_, dy = y - 0.5 * height_;
-    Ray r;
-    if (type_ == ir::Sensor::Type::Pinhole) {
-        r.o = position_;
-        r.d = normalize(forward_ * focal_ + right_ * (dx * pitch_) - upOrtho_ * (dy * pitch_));
-    } else {
-        r.o = position_ + right_ * (dx * size_) - upOrtho_ * (dy * size_);
-        r.d = forward_;
-    }
-    return r;
+    // A visit, so that a projection without a case here does not compile.
+    return std::visit(Overloaded{[&](const PinholeProjection& p) {
+                                     return Ray{position_, normalize(forward_ * p.focal + right_ * (dx * p.pitch) -
+                                                                     upOrtho_ * (dy * p.pitch))};
+                                 },
+                                 [&](const OrthographicProjection& o) {
+                                     return Ray{position_ + right_ * (dx * o.size) - upOrtho_ * (dy * o.size), forward_};
+                                 }},
+                      projection_);
 }
 
 }  // namespace littoral::render

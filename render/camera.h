@@ -9,6 +9,12 @@
 //   orthographic:  o = position + (x - W/2) size right - (y - H/2) size upOrtho, d = forward.
 // With one sample per pixel the ray goes through the pixel centre (as the thesis' comparators
 // do); with more, samples are stratified and jittered over the pixel.
+//
+// Each sensor type (core/sensor_types.h: its parameters, as the scene file and the IR read them)
+// makes its projection here, through a table of factories keyed by ir::Sensor::Type (camera.cpp);
+// a static_assert there checks that every type has exactly one.
+#include <variant>
+
 #include "core/ray.h"
 #include "core/scene_ir.h"
 
@@ -24,10 +30,20 @@ namespace littoral::render {
 ir::Sensor frameCamera(const std::string& name, const Point3& target, double viewZenith, double viewAzimuth,
                        double range, double gsd, int width, int height, double pitch);
 
+// The per-type part of a camera, chosen once per sensor and evaluated per sample (a variant, not
+// virtual dispatch: generateRay is on the hot path). Lengths in metres.
+struct PinholeProjection {
+    double focal = 0, pitch = 0;
+};
+struct OrthographicProjection {
+    double size = 0;
+};
+using Projection = std::variant<PinholeProjection, OrthographicProjection>;
+
 class Camera {
 public:
-    // InputError on zero or negative image size, non-positive focal length, pitch or pixel size,
-    // a zero forward vector or an up vector parallel to forward.
+    // InputError on zero or negative image size, non-positive focal length, pitch or pixel size
+    // (the type's factory), a zero forward vector or an up vector parallel to forward.
     explicit Camera(const ir::Sensor& sensor);
 
     Ray generateRay(double x, double y) const;
@@ -42,11 +58,10 @@ public:
 
 private:
     std::string name_;
-    ir::Sensor::Type type_;
+    Projection projection_;
     Point3 position_;
     Vec3 forward_, right_, upOrtho_;
     int width_, height_, spp_;
-    double focal_ = 0, pitch_ = 0, size_ = 0;
 };
 
 }  // namespace littoral::render

@@ -14,6 +14,7 @@
 #include "core/output_names.h"
 #include "core/phase_functions.h"
 #include "core/probe_quantities.h"
+#include "core/sensor_types.h"
 #include "core/solar_position.h"
 #include "core/suggest.h"
 #include "core/text_checks.h"
@@ -162,56 +163,107 @@ void parseSky(const YamlNode& n, SkySection* s) {
     }
 }
 
-const std::vector<std::string> kSensorKeys = {
-    "name", "type", "elevation_deg", "zenith_deg", "azimuth_deg", "range_m", "gsd_m", "target",
-    "position", "look_at", "direction", "up", "focal_length_mm", "pixel_pitch_um", "pixel_size_m",
-    "width", "height", "samples_per_pixel", "medium"};
+// A value of a parameter as its descriptor types it, range-checked at its location (below).
+ParamValue parseParam(const YamlNode& v, const ParamSpec& p);
+
+// The sensor keys: placement, the parameters of every sensor type (core/sensor_types.h), and the
+// image.
+std::vector<std::string> sensorKeys() {
+    std::vector<std::string> keys = {"name",   "type",    "elevation_deg", "zenith_deg", "azimuth_deg", "range_m",
+                                     "gsd_m",  "target",  "position",      "look_at",    "direction",   "up"};
+    for (const SensorKind& k : sensorTypeKinds().kinds())
+        for (const ParamSpec& p : k.info.params)
+            if (std::find(keys.begin(), keys.end(), p.sceneName()) == keys.end()) keys.push_back(p.sceneName());
+    keys.insert(keys.end(), {"width", "height", "samples_per_pixel", "medium"});
+    return keys;
+}
+
+// The scene keys of every sensor type's parameters, in registration order.
+std::vector<std::string> sensorParamSceneKeys() {
+    std::vector<std::string> keys;
+    for (const SensorKind& k : sensorTypeKinds().kinds())
+        for (const ParamSpec& p : k.info.params) keys.push_back(p.sceneName());
+    return keys;
+}
+
+// The sensor types with a parameter written `sceneKey` ("orthographic", or "a or b").
+std::string sensorTypesWith(const std::string& sceneKey) {
+    std::string s;
+    for (const SensorKind& k : sensorTypeKinds().kinds())
+        if (k.info.paramBySceneKey(sceneKey)) s += (s.empty() ? "" : " or ") + k.info.name;
+    return s;
+}
+
+// The optics of a pinhole or orthographic sensor: the parameters its type's descriptor declares,
+// converted to the IR's metres; another type's parameter is refused naming the type that uses it.
+void parseSensorOptics(const YamlNode& n, const SensorKind& kind, SensorSection* s) {
+    std::vector<std::string> own;
+    for (const ParamSpec& p : kind.info.params) own.push_back(p.sceneName());
+    for (const std::string& k : sensorParamSceneKeys())
+        if (n.has(k) && !kind.info.paramBySceneKey(k))
+            n[k].fail(fmt::format("'{}' is only used by the {} sensor type (this sensor is {}, which uses {})", k,
+                                  sensorTypesWith(k), kind.info.name, joinList(own, " and ")));
+    for (size_t i = 0; i < kind.info.params.size(); ++i) {
+        const ParamSpec& p = kind.info.params[i];
+        const ParamValue v = p.defaultValue && !n.optional(p.sceneName()) ? p.defaultParamValue()
+                                                                           : parseParam(n[p.sceneName()], p);
+        s->optics.set(p.name, numberOf(v) * kind.fields[i].irScale);
+    }
+}
+
+// A pinhole or orthographic sensor's placement: position, look_at or direction, up.
+void parsePlacement(const YamlNode& n, SensorSection* s) {
+    s->position = parseVec3(n["position"]);
+    if (n.has("look_at") == n.has("direction")) n.fail("give exactly one of look_at, direction");
+    const Vec3 d = n.has("look_at") ? parseVec3(n["look_at"]) - s->position : parseVec3(n["direction"]);
+    if (length(d) < 1e-12) n.fail("the view direction has zero length");
+    s->direction = normalize(d);
+    if (auto u = n.optional("up")) s->up = parseVec3(*u);
+    else s->up = std::abs(s->direction.z) > 0.99 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+    if (length(cross(s->direction, s->up)) < 1e-9) n["up"].fail("'up' must not be parallel to the view direction");
+}
+
+// A frame sensor (dissertation Table 10.1): placed by elevation, azimuth, range and GSD; scenegen
+// makes it a pinhole (placeSensor).
+void parseFramePlacement(const YamlNode& n, SensorSection* s) {
+    if (n.has("elevation_deg") == n.has("zenith_deg")) n.fail("a frame sensor needs exactly one of elevation_deg, zenith_deg");
+    s->elevation = n.has("elevation_deg") ? deg2rad(n["elevation_deg"].asDouble(1, 90, "degrees"))
+                                          : kPi / 2 - deg2rad(n["zenith_deg"].asDouble(0, 89, "degrees"));
+    s->compassAzimuth = deg2rad(n["azimuth_deg"].asDouble(0, 360, "degrees (clockwise from north)"));
+    s->range = n["range_m"].asDouble(0.01, 1e6, "m");
+    s->gsd = n["gsd_m"].asDouble(1e-5, 1e4, "m");
+    if (auto t = n.optional("target")) s->target = parseVec3(*t);
+    if (auto u = n.optional("up")) s->up = parseVec3(*u);
+    else s->up = {0, 1, 0};
+}
 
 SensorSection parseSensor(const YamlNode& n) {
-    n.expectKeys(kSensorKeys);
+    n.expectKeys(sensorKeys());
     SensorSection s;
     s.loc = n.loc();
     s.name = n["name"].asOutputName("sensor");
-    s.type = n["type"].asEnum({"frame", "pinhole", "orthographic"});
+    // "frame" (a placement that makes a pinhole) and the registered sensor types.
+    std::vector<std::string> types = {"frame"};
+    for (const std::string& t : sensorTypeKinds().names()) types.push_back(t);
+    s.type = n["type"].asEnum(types);
     s.width = static_cast<int>(n["width"].asInt(1, 20000));
     s.height = static_cast<int>(n["height"].asInt(1, 20000));
     s.samplesPerPixel = static_cast<int>(n.getInt("samples_per_pixel", 1, 1, 65536));
     s.medium = n.getEnum("medium", "auto", {"auto", "air", "water"});
-    auto forbid = [&](std::initializer_list<const char*> keys, const char* why) {
-        for (const char* k : keys)
+    auto forbid = [&](const std::vector<std::string>& keys, const char* why) {
+        for (const std::string& k : keys)
             if (n.has(k)) n[k].fail(fmt::format("not used by a {} sensor ({})", s.type, why));
     };
     if (s.type == "frame") {
-        forbid({"position", "look_at", "direction", "focal_length_mm", "pixel_pitch_um", "pixel_size_m"},
-               "it is placed by elevation, azimuth, range and GSD");
-        if (n.has("elevation_deg") == n.has("zenith_deg")) n.fail("a frame sensor needs exactly one of elevation_deg, zenith_deg");
-        s.elevation = n.has("elevation_deg") ? deg2rad(n["elevation_deg"].asDouble(1, 90, "degrees"))
-                                             : kPi / 2 - deg2rad(n["zenith_deg"].asDouble(0, 89, "degrees"));
-        s.compassAzimuth = deg2rad(n["azimuth_deg"].asDouble(0, 360, "degrees (clockwise from north)"));
-        s.range = n["range_m"].asDouble(0.01, 1e6, "m");
-        s.gsd = n["gsd_m"].asDouble(1e-5, 1e4, "m");
-        if (auto t = n.optional("target")) s.target = parseVec3(*t);
-        if (auto u = n.optional("up")) s.up = parseVec3(*u);
-        else s.up = {0, 1, 0};
+        std::vector<std::string> unused = {"position", "look_at", "direction"};
+        for (const std::string& k : sensorParamSceneKeys()) unused.push_back(k);
+        forbid(unused, "it is placed by elevation, azimuth, range and GSD");
+        parseFramePlacement(n, &s);
     } else {
         forbid({"elevation_deg", "zenith_deg", "azimuth_deg", "range_m", "gsd_m", "target"},
                "it is placed by position and direction");
-        s.position = parseVec3(n["position"]);
-        if (n.has("look_at") == n.has("direction")) n.fail("give exactly one of look_at, direction");
-        const Vec3 d = n.has("look_at") ? parseVec3(n["look_at"]) - s.position : parseVec3(n["direction"]);
-        if (length(d) < 1e-12) n.fail("the view direction has zero length");
-        s.direction = normalize(d);
-        if (auto u = n.optional("up")) s.up = parseVec3(*u);
-        else s.up = std::abs(s.direction.z) > 0.99 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
-        if (length(cross(s.direction, s.up)) < 1e-9) n["up"].fail("'up' must not be parallel to the view direction");
-        if (s.type == "pinhole") {
-            forbid({"pixel_size_m"}, "pinhole cameras use focal_length_mm and pixel_pitch_um");
-            s.focalLength = n["focal_length_mm"].asDouble(1e-3, 1e5, "mm") * 1e-3;
-            s.pixelPitch = n["pixel_pitch_um"].asDouble(1e-2, 1e5, "um") * 1e-6;
-        } else {
-            forbid({"focal_length_mm", "pixel_pitch_um"}, "orthographic cameras use pixel_size_m");
-            s.pixelSize = n["pixel_size_m"].asDouble(1e-6, 1e4, "m");
-        }
+        parsePlacement(n, &s);
+        parseSensorOptics(n, sensorTypeKinds().get(s.type, ""), &s);
     }
     return s;
 }
@@ -275,7 +327,6 @@ MaterialSection parseMaterial(const YamlNode& n) {
     return m;
 }
 
-// A value of a parameter as its descriptor types it, range-checked at its location.
 ParamValue parseParam(const YamlNode& v, const ParamSpec& p) {
     switch (p.type) {
         case ParamType::Boolean: return v.asBool();
@@ -317,32 +368,60 @@ std::vector<double> constituentGrid(const std::vector<Band>& bands) {
     return wl;
 }
 
+// At most one medium model (water_constituents.h: preset, constituents, explicit) per node:
+// "give one of 'preset', 'constituents' or absorption_per_m/scattering_per_m".
+void checkOneMediumModel(const YamlNode& n) {
+    int given = 0;
+    std::vector<std::string> choices;
+    for (const MediumModelKind& m : mediumModelKinds().kinds()) {
+        bool chosen = false;
+        for (const std::string& k : m.sceneKeys) chosen = chosen || n.has(k);
+        given += chosen;
+        choices.push_back(m.sceneKeys.size() == 1 ? "'" + m.sceneKeys[0] + "'" : joinList(m.sceneKeys, "/"));
+    }
+    if (given > 1) {
+        const std::string last = choices.back();
+        choices.pop_back();
+        n.fail(fmt::format("give one of {} or {}", joinList(choices), last));
+    }
+}
+
+// A `constituents:` map: its numeric keys from the constituents model's descriptor
+// (water_constituents.h), `pure_water` and `particle_phase` (read by the caller) besides.
+WaterComposition parseConstituents(const YamlNode& c) {
+    const MediumModelKind& model = *mediumModelKinds().find("constituents");
+    std::vector<std::string> keys = {"pure_water"};
+    for (const ParamSpec& p : model.info.params) keys.push_back(p.name);
+    keys.push_back("particle_phase");
+    c.expectKeys(keys);
+    WaterComposition comp;
+    const std::string pw = c.getEnum("pure_water", "sea", {"sea", "fresh", "none"});
+    comp.includePureWater = pw != "none";
+    comp.water = pw == "fresh" ? WaterKind::Fresh : WaterKind::Sea;
+    for (size_t i = 0; i < model.info.params.size(); ++i) {
+        const ParamSpec& p = model.info.params[i];
+        const auto v = c.optional(p.name);
+        comp.*model.fields[i] = numberOf(v ? parseParam(*v, p) : p.defaultValue ? p.defaultParamValue() : parseParam(c[p.name], p));
+    }
+    return comp;
+}
+
 // The IOP keys shared by water.optics and each of its layers: a preset, a constituent mix, or
 // absorption and scattering given directly; `phase` replaces the phase function of every
 // scattering constituent.
 void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o) {
     o->loc = n.loc();
-    const int given = n.has("preset") + n.has("constituents") + (n.has("absorption_per_m") || n.has("scattering_per_m"));
-    if (given > 1) n.fail("give one of 'preset', 'constituents' or absorption_per_m/scattering_per_m");
+    checkOneMediumModel(n);
     if (auto p = n.optional("preset")) {
-        const std::string name = p->asEnum(waterPresetNames());
-        const WaterIops w = waterPreset(name);
+        const std::string name = p->asEnum(waterPresetKinds().names());
+        const WaterIops w = waterPresetKinds().find(name)->make();
         o->preset = name;
         o->absorption = w.absorption();
         for (const IopComponent& c : w.components)
             if (!(c.scattering.isConstant() && c.scattering.values()[0] == 0.0))
                 o->scatterers.push_back({c.name, c.scattering, c.phase});
     } else if (auto c = n.optional("constituents")) {
-        c->expectKeys({"pure_water", "chlorophyll_mg_m3", "sediment_g_m3", "cdom_440_per_m", "cdom_slope_per_nm",
-                       "particle_phase"});
-        WaterComposition comp;
-        const std::string pw = c->getEnum("pure_water", "sea", {"sea", "fresh", "none"});
-        comp.includePureWater = pw != "none";
-        comp.water = pw == "fresh" ? WaterKind::Fresh : WaterKind::Sea;
-        comp.chlorophyllMgM3 = c->getDouble("chlorophyll_mg_m3", 0, 0, 1000, "mg m^-3");
-        comp.sedimentGM3 = c->getDouble("sediment_g_m3", 0, 0, 10000, "g m^-3");
-        comp.cdomA440PerM = c->getDouble("cdom_440_per_m", 0, 0, 100, "m^-1");
-        comp.cdomSlopePerNm = c->getDouble("cdom_slope_per_nm", 0.014, 0.001, 0.1, "nm^-1");
+        WaterComposition comp = parseConstituents(*c);
         if (auto pp = c->optional("particle_phase")) comp.phytoplanktonPhase = comp.sedimentPhase = parsePhase(*pp);
         WaterIops w;
         try {
@@ -638,13 +717,13 @@ ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater)
         c.pixelPitch = 10e-6;
         c.focalLength = c.pixelPitch * s.range / s.gsd;
     } else {
-        c.type = s.type == "pinhole" ? ir::Sensor::Type::Pinhole : ir::Sensor::Type::Orthographic;
+        const SensorKind& kind = sensorTypeKinds().get(s.type, "sensor '" + s.name + "'");
+        c.type = kind.type;
         c.position = s.position;
         c.forward = s.direction;
         c.up = s.up;
-        c.focalLength = s.focalLength;
-        c.pixelPitch = s.pixelPitch;
-        c.pixelSize = s.pixelSize;
+        for (size_t i = 0; i < kind.info.params.size(); ++i)
+            c.*kind.fields[i].field = s.optics.number(kind.info.params[i].name);
     }
     if (s.medium == "water") c.medium = "water";
     else if (s.medium == "auto" && hasWater && c.position.z < waterLevel) c.medium = "water";

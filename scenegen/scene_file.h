@@ -59,7 +59,7 @@ struct SensorSection {
     Vec3 target;
     // pinhole / orthographic
     Vec3 position, direction{0, 0, -1}, up{0, 1, 0};
-    double focalLength = 0, pixelPitch = 0, pixelSize = 0;
+    ParamValues optics;  // the parameters of the sensor type (core/sensor_types.h): IR key -> IR value (m)
     int width = 0, height = 0;
     int samplesPerPixel = 1;
     std::string medium = "auto";  // auto | air | water

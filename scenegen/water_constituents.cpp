@@ -351,25 +351,97 @@ WaterIops table93(const std::string& name, const char* group, double a, double b
 
 }  // namespace
 
-std::vector<std::string> waterPresetNames() { return {"pure", "low", "moderate", "high", "coastal", "bay", "turbid"}; }
+namespace {
 
-WaterIops waterPreset(const std::string& name) {
-    if (name == "low") return table103(name, 0.01);
-    if (name == "moderate") return table103(name, 0.05);
-    if (name == "high") return table103(name, 0.10);
-    if (name == "coastal") return table93(name, "Clear, Coastal (Group #1)", 0.038, 0.350);
-    if (name == "bay") return table93(name, "Bay (Group #3)", 0.143, 0.180);
-    if (name == "turbid") return table93(name, "Turbid (Group #4b)", 0.268, 0.680);
-    if (name == "pure") {
-        WaterIops w;
-        w.name = name;
-        w.includesPureWater = false;  // no attenuation at all: a purely refracting medium
-        return w;
-    }
-    const auto names = waterPresetNames();
-    const std::string guess = closestMatch(name, names);
-    throw InputError(fmt::format("water preset '{}' is unknown; allowed: {}{}", name, joinList(names),
-                                 guess.empty() ? "" : fmt::format(" (did you mean '{}'?)", guess)));
+WaterPresetKind presetKind(const std::string& name, std::string doc, std::function<WaterIops()> make) {
+    return {KindInfo{"water preset", name, std::move(doc), {}}, std::move(make)};
+}
+
+WaterPresetKind table103Kind(const std::string& name, double scale) {
+    return presetKind(name,
+                      fmt::format("Speir (2010) Table 10.3: {} x the Table 9.6 chlorophyll, TSS and CDOM spectra, "
+                                  "tabulated at 0.4, 0.5, 0.6 um, HG g = 0.88; pure water not included",
+                                  scale),
+                      [name, scale] { return table103(name, scale); });
+}
+
+WaterPresetKind table93Kind(const std::string& name, const char* group, double a, double b) {
+    return presetKind(name,
+                      fmt::format("Speir (2010) Table 9.3, {}: spectrally flat a = {}, b = {} m^-1, HG g = 0.92; pure "
+                                  "water not included",
+                                  group, a, b),
+                      [name, group, a, b] { return table93(name, group, a, b); });
+}
+
+WaterIops pureKind() {
+    WaterIops w;
+    w.name = "pure";
+    w.includesPureWater = false;  // no attenuation at all: a purely refracting medium
+    return w;
+}
+
+}  // namespace
+
+const KindRegistry<WaterPresetKind>& waterPresetKinds() {
+    static const KindRegistry<WaterPresetKind> registry = [] {
+        KindRegistry<WaterPresetKind> r("water preset");
+        r.add(presetKind("pure",
+                         "no absorption and no scattering: a purely refracting medium (it is not pure water, which "
+                         "is constituents: {})",
+                         pureKind));
+        r.add(table103Kind("low", 0.01));
+        r.add(table103Kind("moderate", 0.05));
+        r.add(table103Kind("high", 0.10));
+        r.add(table93Kind("coastal", "Clear, Coastal (Group #1)", 0.038, 0.350));
+        r.add(table93Kind("bay", "Bay (Group #3)", 0.143, 0.180));
+        r.add(table93Kind("turbid", "Turbid (Group #4b)", 0.268, 0.680));
+        return r;
+    }();
+    return registry;
+}
+
+std::vector<std::string> waterPresetNames() { return waterPresetKinds().names(); }
+
+WaterIops waterPreset(const std::string& name) { return waterPresetKinds().get(name, "").make(); }
+
+// ---- the medium models ------------------------------------------------------------------------
+
+namespace {
+
+MediumModelKind constituentsKind() {
+    MediumModelKind k;
+    k.info = {"medium model", "constituents",
+              "IOPs from concentrations: pure water, phytoplankton, mineral sediment and CDOM (the sources above)", {}};
+    k.sceneKeys = {"constituents"};
+    k.info.params = {
+        {"chlorophyll_mg_m3", "", ParamType::Real, 0.0, 0, 1000, "mg m^-3",
+         "phytoplankton: absorption Bricaud et al. (1998), scattering Gordon & Morel (1983)"},
+        {"sediment_g_m3", "", ParamType::Real, 0.0, 0, 10000, "g m^-3", "mineral particles (Babin et al. 2003)"},
+        {"cdom_440_per_m", "", ParamType::Real, 0.0, 0, 100, "m^-1", "CDOM absorption at 440 nm"},
+        {"cdom_slope_per_nm", "", ParamType::Real, 0.014, 0.001, 0.1, "nm^-1",
+         "the exponential slope of CDOM absorption (Bricaud et al. 1981)"},
+    };
+    k.fields = {&WaterComposition::chlorophyllMgM3, &WaterComposition::sedimentGM3, &WaterComposition::cdomA440PerM,
+                &WaterComposition::cdomSlopePerNm};
+    return k;
+}
+
+}  // namespace
+
+const KindRegistry<MediumModelKind>& mediumModelKinds() {
+    static const KindRegistry<MediumModelKind> registry = [] {
+        KindRegistry<MediumModelKind> r("medium model");
+        r.add({{"medium model", "preset", "a named IOP table (the water presets)", {}}, {"preset"}, {}});
+        r.add(constituentsKind());
+        r.add({{"medium model", "explicit", "absorption and scattering given directly as spectra (m^-1); scatterers "
+                                            "get HG g = 0.88 unless phase is given", {}},
+               {"absorption_per_m", "scattering_per_m"}, {}});
+        for (const MediumModelKind& k : r.kinds())
+            if (k.fields.size() != k.info.params.size())
+                throw InternalError("medium model '" + k.info.name + "': its fields do not match its parameters");
+        return r;
+    }();
+    return registry;
 }
 
 }  // namespace littoral::scenegen

@@ -29,10 +29,12 @@
 // pure water, exactly as the dissertation's tables (which list constituents only); includesPure
 // Water is false for them. Table 10.3 (low, moderate, high) is the Table 9.6 constituent spectra
 // x 0.01 / 0.05 / 0.10; Table 9.3 (coastal, bay, turbid) is one spectrally flat bulk component.
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/kinds.h"
 #include "core/scene_ir.h"
 #include "core/spectrum.h"
 
@@ -113,13 +115,39 @@ struct WaterIops {
 WaterIops computeIops(const WaterComposition& composition, const std::vector<double>& wavelengthsUm,
                       const std::string& name = "water");
 
+// ---- the medium models: how water.optics (or a layer) gives its IOPs ---------------------------
+// Family "medium model", one descriptor each, read by the scene-file parser, its messages and
+// docs/scene-format.md (checked by tests/pipelines/kinds_test.cpp):
+//   preset        a named IOP table (the "water preset" family below);
+//   constituents  computeIops from concentrations: its numeric parameters are ParamSpecs (keys under
+//                 `constituents:`, default, range, unit, doc), each bound to its WaterComposition
+//                 member; `pure_water` (sea, fresh, none) and `particle_phase` (a phase function) are
+//                 not numbers and are read by the parser itself;
+//   explicit      absorption_per_m and scattering_per_m given as spectra (m^-1).
+struct MediumModelKind {
+    KindInfo info;                       // family "medium model"
+    std::vector<std::string> sceneKeys;  // the water.optics keys that choose this model
+    std::vector<double WaterComposition::*> fields;  // constituents: the member of each of info.params
+};
+inline const KindInfo& kindInfo(const MediumModelKind& k) { return k.info; }
+const KindRegistry<MediumModelKind>& mediumModelKinds();
+
 // ---- the dissertation's presets ---------------------------------------------------------------
 
 // "low", "moderate", "high" (Table 10.3, tabulated at 0.4, 0.5, 0.6 um, HG g = 0.88 as in
 // Chapter 10), "coastal", "bay", "turbid" (Table 9.3, spectrally flat; HG g = 0.92, one of the
 // four phase functions each group was run with), and "pure": no absorption and no scattering (a
 // purely refracting medium; it is not pure water). None includes pure water.
-std::vector<std::string> waterPresetNames();
-WaterIops waterPreset(const std::string& name);  // InputError naming the allowed values
+// Each preset is a kind of family "water preset": its name, a doc line naming its table and
+// whether it includes pure water (none does), and its factory.
+struct WaterPresetKind {
+    KindInfo info;  // family "water preset"; no parameters
+    std::function<WaterIops()> make;
+};
+inline const KindInfo& kindInfo(const WaterPresetKind& k) { return k.info; }
+const KindRegistry<WaterPresetKind>& waterPresetKinds();
+
+std::vector<std::string> waterPresetNames();     // waterPresetKinds().names()
+WaterIops waterPreset(const std::string& name);  // InputError naming the allowed values, with a did-you-mean
 
 }  // namespace littoral::scenegen

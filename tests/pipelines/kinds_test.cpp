@@ -1,5 +1,6 @@
 // The kind descriptors against everything that reads them: for every registered kind of every
-// family (phase functions, estimators, probe quantities), each documented parameter is accepted by the scene-file
+// family (phase functions, estimators, probe quantities, sensor types, medium models and water
+// presets), each documented parameter is accepted by the scene-file
 // parser at its default and at both ends of its range, refused just outside with a located error
 // naming the range, round-trips through the Scene IR, and is range-checked by the renderer's
 // factory alike; unknown names get a did-you-mean; docs/scene-format.md lists exactly the
@@ -22,12 +23,17 @@
 #include "core/phase_functions.h"
 #include "core/probe_quantities.h"
 #include "core/scene_ir.h"
+#include "core/sensor_types.h"
+#include "core/suggest.h"
+#include "render/camera.h"
 #include "render/estimator.h"
 #include "render/estimator_settings.h"
 #include "scenegen/scene_file.h"
+#include "scenegen/water_constituents.h"
 #include "scenegen/yaml_reader.h"
 
 using namespace littoral;
+using namespace littoral::scenegen;
 namespace fs = std::filesystem;
 
 namespace {
@@ -413,6 +419,21 @@ std::string irError(const std::string& text) {
 
 }  // namespace
 
+namespace {
+
+// A pinhole or orthographic sensor with `param: value` on line 9 (`param` left out when `value` is
+// ""), then the type's other required parameters (at the low end of their ranges).
+std::string sensorScene(const SensorKind& k, const std::string& param, const std::string& value) {
+    std::string s = "scene: {name: kinds}\nsensors:\n  - name: cam\n    type: " + k.info.name +
+                    "\n    position: [0, 0, 10]\n    direction: [0, 0, -1]\n    width: 4\n    height: 3\n";
+    if (!param.empty() && !value.empty()) s += "    " + param + ": " + value + "\n";
+    for (const ParamSpec& p : k.info.params)
+        if (p.sceneName() != param && !p.defaultValue) s += "    " + p.sceneName() + ": " + fmt::format("{}", p.lo) + "\n";
+    return s;
+}
+
+}  // namespace
+
 TEST(KindDescriptors, EveryMaterialTypeHasOneDescriptorAndTheDocsListThem) {
     // Every enumerator of ir::Material::Type is registered once, and the docs' table lists the
     // registered types with their lobes, solvers and doc line.
@@ -531,4 +552,211 @@ TEST(KindDescriptors, MaterialSceneKeysAndSolversMatchTheParser) {
             EXPECT_NE(std::string(e.what()).find("takes no solver"), std::string::npos) << e.what();
         }
     }
+}
+
+TEST(KindDescriptors, SensorTypeParametersMatchTheParserTheIrAndTheCamera) {
+    ASSERT_EQ(sensorTypeKinds().names(), allNames<ir::Sensor::Type>());
+    for (const SensorKind& k : sensorTypeKinds().kinds()) {
+        SCOPED_TRACE(k.info.name);
+        EXPECT_EQ(k.info.family, "sensor type");
+        EXPECT_FALSE(k.info.doc.empty());
+        ASSERT_EQ(k.fields.size(), k.info.params.size());
+        for (size_t i = 0; i < k.info.params.size(); ++i) {
+            const ParamSpec& p = k.info.params[i];
+            const SensorField& f = k.fields[i];
+            SCOPED_TRACE(p.sceneName());
+            EXPECT_FALSE(p.doc.empty());
+            for (const Trial& t : insideValues(p)) {
+                const auto spec = parse(sensorScene(k, p.sceneName(), t.text));
+                const double irValue = numberOf(t.value) * f.irScale;  // the scene file's unit -> m
+                EXPECT_EQ(spec.sensors.at(0).optics.number(p.name), irValue) << t.text;
+                const ir::SceneIR ir = irOf(spec);
+                EXPECT_EQ(ir.sensors.at(0).type, k.type);
+                EXPECT_EQ(ir.sensors.at(0).*f.field, irValue) << t.text;
+                EXPECT_NE(ir::toJsonText(ir).find("\"" + p.name + "\""), std::string::npos);
+                const ir::SceneIR back = roundTrip(ir);
+                EXPECT_EQ(back.sensors.at(0).*f.field, irValue) << t.text;
+                // The type's camera factory builds it.
+                EXPECT_NO_THROW(render::Camera{back.sensors.at(0)}) << t.text;
+            }
+            for (const std::string& out : outsideTexts(p)) {
+                SourceLoc where;
+                const std::string msg = parseError(sensorScene(k, p.sceneName(), out), &where);
+                EXPECT_NE(msg.find("out of range; allowed " + p.rangeText()), std::string::npos) << out << ": " << msg;
+                EXPECT_EQ(where.file, "kinds.yaml");
+                EXPECT_EQ(where.line, 9) << msg;
+            }
+            if (!p.defaultValue) {
+                const std::string msg = parseError(sensorScene(k, p.sceneName(), ""));
+                EXPECT_NE(msg.find(p.sceneName()), std::string::npos) << msg;
+            }
+        }
+        // A parameter of another type is refused, naming the type that uses it.
+        for (const SensorKind& other : sensorTypeKinds().kinds())
+            for (const ParamSpec& q : other.info.params) {
+                if (k.info.paramBySceneKey(q.sceneName())) continue;
+                SourceLoc where;
+                const std::string msg = parseError(sensorScene(k, q.sceneName(), fmt::format("{}", q.lo)), &where);
+                EXPECT_NE(msg.find("'" + q.sceneName() + "' is only used by the " + other.info.name + " sensor type"),
+                          std::string::npos)
+                    << msg;
+                EXPECT_EQ(where.line, 9) << msg;
+                // A frame sensor (a placement that makes a pinhole) takes none of them.
+                const std::string frame = parseError(
+                    "scene: {name: kinds}\nsensors:\n  - {name: cam, type: frame, elevation_deg: 90, azimuth_deg: 0, "
+                    "range_m: 10, gsd_m: 0.1, width: 4, height: 3, " +
+                    q.sceneName() + ": 1}\n");
+                EXPECT_NE(frame.find("not used by a frame sensor"), std::string::npos) << frame;
+            }
+    }
+}
+
+TEST(KindDescriptors, UnknownSensorTypeGetsADidYouMean) {
+    const std::string msg = parseError(
+        "scene: {name: kinds}\nsensors:\n  - {name: cam, type: orthographc, position: [0, 0, 1], direction: [0, 0, -1], "
+        "pixel_size_m: 1, width: 4, height: 3}\n");
+    EXPECT_NE(msg.find("did you mean 'orthographic'"), std::string::npos) << msg;
+    // The IR reader gives the same did-you-mean.
+    const SensorKind& pinhole = *sensorTypeKinds().find("pinhole");
+    std::string text = ir::toJsonText(irOf(parse(sensorScene(pinhole, "", ""))));
+    text.replace(text.find("\"pinhole\""), 9, "\"pinhol\"");
+    try {
+        (void)ir::fromJsonText(text, "scene.json");
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("did you mean 'pinhole'"), std::string::npos) << e.what();
+    }
+}
+
+namespace {
+
+// `constituents:` with `param: value` on line 5.
+std::string constituentsScene(const std::string& param, const std::string& value) {
+    return "scene: {name: kinds}\nwater:\n  optics:\n    constituents:\n      " + param + ": " + value + "\n";
+}
+
+// The grid parseIops tabulates constituent spectra on for the default band [0.4, 0.6] um: 5 nm.
+std::vector<double> defaultBandGrid() {
+    const double lo = 0.4, hi = 0.6;
+    std::vector<double> wl;
+    for (int i = 0; i <= 40; ++i) wl.push_back(lo + (hi - lo) * i / 40);
+    return wl;
+}
+
+}  // namespace
+
+TEST(KindDescriptors, ConstituentParametersMatchTheParser) {
+    const MediumModelKind* model = mediumModelKinds().find("constituents");
+    ASSERT_NE(model, nullptr);
+    EXPECT_EQ(model->info.family, "medium model");
+    ASSERT_EQ(model->fields.size(), model->info.params.size());
+    for (size_t i = 0; i < model->info.params.size(); ++i) {
+        const ParamSpec& p = model->info.params[i];
+        SCOPED_TRACE(p.name);
+        EXPECT_FALSE(p.doc.empty());
+        EXPECT_FALSE(p.unit.empty());
+        // Omitted, the parameter takes its default.
+        WaterComposition defaults;
+        EXPECT_EQ(defaults.*model->fields[i], p.defaultValue.value_or(-1));
+        for (const Trial& t : insideValues(p)) {
+            const auto spec = parse(constituentsScene(p.name, t.text));
+            // The value reaches the composition: the IOPs are those computeIops gives for it.
+            WaterComposition comp;
+            comp.*model->fields[i] = numberOf(t.value);
+            const WaterIops w = computeIops(comp, defaultBandGrid());
+            const LayerOptics& o = spec.waterOptics.iops;
+            EXPECT_EQ(o.preset, "constituents");
+            for (double wl : {0.4, 0.47, 0.6}) EXPECT_DOUBLE_EQ(o.absorption.at(wl), w.absorption().at(wl)) << t.text;
+            (void)roundTrip(irOf(spec));
+        }
+        for (const std::string& out : outsideTexts(p)) {
+            SourceLoc where;
+            const std::string msg = parseError(constituentsScene(p.name, out), &where);
+            EXPECT_NE(msg.find("out of range; allowed " + p.rangeText()), std::string::npos) << out << ": " << msg;
+            EXPECT_EQ(where.file, "kinds.yaml");
+            EXPECT_EQ(where.line, 5) << msg;
+        }
+    }
+    const std::string typo = parseError(constituentsScene("chlorophyl_mg_m3", "1"));
+    EXPECT_NE(typo.find("did you mean 'chlorophyll_mg_m3'"), std::string::npos) << typo;
+    // One model per node, the message naming the models' keys.
+    const std::string two = parseError("scene: {name: kinds}\nwater:\n  optics: {preset: low, constituents: {}}\n");
+    EXPECT_NE(two.find("give one of 'preset', 'constituents' or absorption_per_m/scattering_per_m"), std::string::npos)
+        << two;
+}
+
+TEST(KindDescriptors, WaterPresetsParseAndUnknownOnesGetADidYouMean) {
+    ASSERT_FALSE(waterPresetKinds().empty());
+    EXPECT_EQ(waterPresetNames(), waterPresetKinds().names());
+    for (const WaterPresetKind& k : waterPresetKinds().kinds()) {
+        SCOPED_TRACE(k.info.name);
+        EXPECT_EQ(k.info.family, "water preset");
+        EXPECT_TRUE(k.info.params.empty());
+        // The doc line says whether the preset includes pure water, and the preset agrees.
+        const WaterIops w = k.make();
+        EXPECT_EQ(w.name, k.info.name);
+        EXPECT_FALSE(w.includesPureWater);
+        EXPECT_NE(k.info.doc.find("pure water"), std::string::npos) << k.info.doc;
+        const auto spec = parse("scene: {name: kinds}\nwater:\n  optics:\n    preset: " + k.info.name + "\n");
+        EXPECT_EQ(spec.waterOptics.iops.preset, k.info.name);
+        EXPECT_EQ(roundTrip(irOf(spec)).metadata.at("water.iop_preset"), k.info.name);
+    }
+    SourceLoc where;
+    const std::string msg = parseError("scene: {name: kinds}\nwater:\n  optics:\n    preset: coastl\n", &where);
+    EXPECT_NE(msg.find("did you mean 'coastal'"), std::string::npos) << msg;
+    EXPECT_EQ(where.line, 4);
+}
+
+TEST(KindDescriptors, DocsListExactlyTheSensorTypesAndMediumModels) {
+    // Sensor types: one row per parameter, with the scene file's default and range and the IR key.
+    std::set<std::pair<std::string, std::string>> documented, registered;
+    for (const auto& row : docsTable("sensor type")) {
+        ASSERT_GE(row.size(), 6u);
+        documented.insert({row[0], row[1]});
+        const SensorKind* k = sensorTypeKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        const ParamSpec* p = k->info.paramBySceneKey(row[1]);
+        ASSERT_NE(p, nullptr) << row[0] << " " << row[1];
+        EXPECT_EQ(row[2] == "required", !p->defaultValue) << row[1];
+        EXPECT_EQ(row[3], p->rangeText()) << row[1];
+        EXPECT_EQ(row[4], p->name) << row[1];
+    }
+    for (const SensorKind& k : sensorTypeKinds().kinds())
+        for (const ParamSpec& p : k.info.params) registered.insert({k.info.name, p.sceneName()});
+    EXPECT_EQ(documented, registered);
+
+    // Medium models: one row each, with the keys that choose it.
+    std::vector<std::string> models;
+    for (const auto& row : docsTable("medium model")) {
+        models.push_back(row[0]);
+        const MediumModelKind* m = mediumModelKinds().find(row[0]);
+        ASSERT_NE(m, nullptr) << row[0];
+        EXPECT_EQ(row[1], joinList(m->sceneKeys)) << row[0];
+    }
+    EXPECT_EQ(models, mediumModelKinds().names());
+
+    // The constituents model: its parameters with default and range, and the two keys that are
+    // not numbers (read by the parser itself).
+    const KindInfo& constituents = mediumModelKinds().find("constituents")->info;
+    std::set<std::string> keys, declared = {"pure_water", "particle_phase"};
+    for (const auto& row : docsTable("medium model constituents")) {
+        keys.insert(row[0]);
+        if (const ParamSpec* p = constituents.param(row[0])) {
+            EXPECT_EQ(row[1], formatValue(p->defaultParamValue())) << row[0];
+            EXPECT_EQ(row[2], p->rangeText()) << row[0];
+        }
+    }
+    for (const ParamSpec& p : constituents.params) declared.insert(p.name);
+    EXPECT_EQ(keys, declared);
+
+    // Water presets: one row each, in order, with whether it includes pure water and the doc line.
+    std::vector<std::string> presets;
+    for (const auto& row : docsTable("water preset")) {
+        presets.push_back(row[0]);
+        const WaterPresetKind* k = waterPresetKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        EXPECT_EQ(row[1], k->make().includesPureWater ? "yes" : "no") << row[0];
+        EXPECT_EQ(row[2], k->info.doc) << row[0];
+    }
+    EXPECT_EQ(presets, waterPresetKinds().names());
 }
