@@ -166,14 +166,9 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
     refuseKeysOfOtherModels(n, p.model);
     parseWind(n, p);
     parseGridAndShape(n, p);
-    // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
-    // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
-    // cox-munk keeps the full grid by default: decimation smooths the facet slopes it is made for.
-    if (!n.has("triangles") && p.model == WaveModel::CoxMunk) p.triangles = 0;
-    if (!n.has("triangles")) {
-        const surfaces::GridSize g = surfaces::gridSizeFor(p);
-        if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;
-    }
+    // Without `triangles`: the default target, or the full grid where that target would be refused
+    // or would smooth cox-munk's facets (surfaces::defaultTriangles).
+    if (!n.has("triangles")) p.triangles = surfaces::defaultTriangles(p);
     validateAtKey(n, p);
     return p;
 }

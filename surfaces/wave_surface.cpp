@@ -135,6 +135,16 @@ double estimateBytes(const WaveParams& p) {
     return 1.2 * (base + field + mesh + std::max({fft, decimation, stats}));
 }
 
+size_t defaultTriangles(const WaveParams& p) {
+    // Decimation smooths the facet slopes cox-munk is made for.
+    if (p.model == WaveModel::CoxMunk) return 0;
+    // A grid that cannot be measured (the checks refuse it) keeps the target.
+    if (!(p.spacing > 0) || !std::isfinite(p.sizeX / p.spacing) || !std::isfinite(p.sizeY / p.spacing))
+        return kDefaultTriangles;
+    const GridSize g = gridSizeFor(p);
+    return static_cast<double>(kDefaultTriangles) > 2.0 * g.nx * g.ny ? 0 : kDefaultTriangles;
+}
+
 namespace {
 
 // The checks of validateWaveParams.
@@ -189,13 +199,21 @@ void checkGridBudget(const WaveParams& p, const GridSize& n) {
                                             gridTris, kMinTriangles, gridTris));
 }
 
+// The advice for a grid that does not resolve a length: the spacing that would (`needed`, m), or,
+// when even the smallest allowed spacing would not, the wind that would.
+std::string spacingAdvice(double needed) {
+    if (needed >= WaveLimits::kMinSpacing) return fmt::format("use a spacing <= {:.4g} m", needed);
+    return fmt::format("that needs a spacing <= {:.4g} m, below the smallest allowed ({} m): give a stronger wind", needed,
+                       WaveLimits::kMinSpacing);
+}
+
 // Resolution of the beaufort model at grid spacing `dmax` (m).
 void checkBeaufortResolution(const WaveParams& p, double dmax) {
     const double L = beaufortPrediction(p.windSpeed).correlationLength;
     // Forward-difference slopes lose (1 - exp(-d^2/L^2)) L^2/d^2 of the slope variance: 12% at d = L/2.
     if (dmax > 0.5 * L)
-        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
-                                          "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the beaufort "
+                                          "model at {} m/s; {}", dmax, L, p.windSpeed, spacingAdvice(0.5 * L)));
     if (std::min(p.sizeX, p.sizeY) < 5 * L)
         log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
                   "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
@@ -209,10 +227,9 @@ void checkCoxMunkResolution(const WaveParams& p, double dmax) {
     // (the design compensates, but only while the grid resolves the correlation).
     if (dmax > 0.5 * L)
         fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the cox-munk "
-                                          "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); use a spacing <= "
-                                          "{:.4g} m",
+                                          "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); {}",
                                           dmax, L, p.windSpeed, h, std::sqrt(std::max(v.upwind, v.crosswind)),
-                                          0.5 * L));
+                                          spacingAdvice(0.5 * L)));
     // One realisation's slope variance along the wind has relative standard deviation
     // sqrt(3 pi Lu Lc / (4 A)) (docs/waves.md); warn when it exceeds 5%.
     const double Lu = std::sqrt(2.0) * h / std::sqrt(v.upwind), Lc = std::sqrt(2.0) * h / std::sqrt(v.crosswind);
@@ -228,8 +245,8 @@ void checkSpectralResolution(const WaveParams& p, double dmax) {
     const WaveSpectrum s(spectrumParamsFor(p));
     const double lp = 2 * kPi / s.peakWavenumber();
     if (dmax > 0.5 * lp)
-        fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
-                                          "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.4g} m); {}", dmax, lp,
+                                          spacingAdvice(0.5 * lp)));
     if (std::min(p.sizeX, p.sizeY) < lp)
         log::warnOnce("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
                   "not represented", std::min(p.sizeX, p.sizeY), lp);
