@@ -24,11 +24,11 @@ std::string ParamSpec::rangeText() const {
     switch (type) {
         case ParamType::Boolean: return "true or false";
         case ParamType::Integer:
-            return fmt::format("[{}, {}]{}{}", static_cast<long long>(lo), static_cast<long long>(hi), unit.empty() ? "" : " ",
-                               unit);
+            return fmt::format("{}{}, {}]{}{}", loOpen ? "(" : "[", static_cast<long long>(lo), static_cast<long long>(hi),
+                               unit.empty() ? "" : " ", unit);
         case ParamType::Real: break;
     }
-    return fmt::format("[{}, {}]{}{}", lo, hi, unit.empty() ? "" : " ", unit);
+    return fmt::format("{}{}, {}]{}{}", loOpen ? "(" : "[", lo, hi, unit.empty() ? "" : " ", unit);
 }
 
 std::string ParamSpec::typeName() const {

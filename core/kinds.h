@@ -3,8 +3,8 @@
 // scene-file parser, the Scene IR writer and reader, the error messages and the factories.
 //
 // A kind has a family ("phase function"), a name ("henyey-greenstein"), a one-line doc and typed
-// parameters, each with a default (or none: required), one inclusive range, a unit and a doc
-// line. A family's kinds sit in one KindRegistry, built by an explicit list of registrations
+// parameters, each with a default (or none: required), one range (inclusive, or open at its lower
+// end: "(0, 40]"), a unit and a doc line. A family's kinds sit in one KindRegistry, built by an explicit list of registrations
 // (one line per kind, in one place per family) inside a function-local static, so nothing
 // depends on static initialisers that the linker may drop from a static library.
 //
@@ -43,10 +43,13 @@ struct ParamSpec {
     double lo = 0, hi = 0;               // inclusive range (not used for booleans)
     std::string unit;                    // "m", "sr^-1", "" ...
     std::string doc;                     // one line
+    bool loOpen = false;                 // the range excludes lo: (lo, hi] (a wind speed > 0)
 
     const std::string& sceneName() const { return sceneKey.empty() ? name : sceneKey; }
-    bool inRange(double v) const { return type == ParamType::Boolean || (v >= lo && v <= hi); }
-    // "[-0.999, 0.999]", "[1, 10000000000]", "[0.0001, 100] m", "true or false".
+    bool inRange(double v) const {
+        return type == ParamType::Boolean || ((loOpen ? v > lo : v >= lo) && v <= hi);
+    }
+    // "[-0.999, 0.999]", "[1, 10000000000]", "[0.0001, 100] m", "(0, 40] m/s", "true or false".
     std::string rangeText() const;
     std::string typeName() const;  // "real", "integer", "boolean"
     ParamValue defaultParamValue() const;

@@ -39,7 +39,7 @@ struct WavesOptions {
     std::optional<double> sizeY;
     double spacing = 0.25;
     uint64_t seed = 500;
-    std::optional<long long> triangles;  // default 30000; cox-munk: 0 (the full grid)
+    std::optional<long long> triangles;  // default: surfaces::defaultTriangles
     std::string out;
     std::string stats;
     double fetch = 0.0, gamma = 3.3, amplitude = 0.5, wavelength = 2.0, phase = 0.0, time = 0.0, depth = 0.0;
@@ -119,11 +119,12 @@ surf::WaveParams toParams(const WavesOptions& o) {
     p.sizeY = o.sizeY.value_or(o.size);
     p.spacing = o.spacing;
     p.seed = o.seed;
-    const long long triangles = o.triangles.value_or(p.model == surf::WaveModel::CoxMunk ? 0 : 30000);
-    if (triangles < 0)
+    if (o.triangles && *o.triangles < 0)
         throw InputError(fmt::format("--triangles: {} is negative; give a target >= {} or 0 for the full grid",
-                                     triangles, surf::kMinTriangles));
-    p.triangles = static_cast<size_t>(triangles);
+                                     *o.triangles, surf::kMinTriangles));
+    // Without --triangles: the default target, or the full grid for cox-munk and for a grid smaller
+    // than the target (as in a scene file).
+    p.triangles = o.triangles ? static_cast<size_t>(*o.triangles) : surf::defaultTriangles(p);
     p.fetch = o.fetch;
     p.gamma = o.gamma;
     p.amplitude = o.amplitude;
@@ -184,7 +185,8 @@ littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
         ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62))
         ->capture_default_str();
     cmd->add_option("--triangles", o->triangles,
-                    "Target triangle count after decimation (0 = full grid); default 30000, cox-munk 0");
+                    "Target triangle count after decimation (0 = full grid); default 30000, or the full grid for "
+                    "cox-munk and for a grid of fewer triangles");
     cmd->add_option("--out", o->out, "Mesh output (.ply or .obj)");
     cmd->add_option("--stats", o->stats, "Statistics output (JSON)");
     cmd->add_option("--fetch", o->fetch, "Fetch, m, for jonswap and elfouhaily (0 = fully developed)")->capture_default_str();

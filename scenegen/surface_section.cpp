@@ -1,50 +1,23 @@
 #include "scenegen/surface_section.h"
 
-#include <climits>
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "core/suggest.h"
 #include "core/units.h"
+#include "surfaces/wave_kinds.h"
 
 namespace littoral::scenegen {
 
 namespace {
+using surfaces::WaveKind;
 using surfaces::WaveLimits;
 using surfaces::WaveModel;
 
-// Keys that only some models use; giving one to another model is a mistake worth reporting.
-struct ModelKey {
-    const char* key;
-    std::vector<WaveModel> models;
-};
-const std::vector<ModelKey>& modelKeys() {
-    static const std::vector<WaveModel> wind{WaveModel::Beaufort, WaveModel::PiersonMoskowitz, WaveModel::Jonswap,
-                                             WaveModel::Elfouhaily, WaveModel::CoxMunk};
-    static const std::vector<ModelKey> keys{
-        {"wind_speed", wind},
-        {"wind_from_deg", wind},
-        {"waves_from_deg", {WaveModel::Sinusoid}},
-        {"seed", wind},
-        {"sea", {WaveModel::CoxMunk}},
-        {"fetch", {WaveModel::Jonswap, WaveModel::Elfouhaily}},
-        {"gamma", {WaveModel::Jonswap}},
-        {"amplitude", {WaveModel::Sinusoid}},
-        {"wavelength", {WaveModel::Sinusoid}},
-        {"phase", {WaveModel::Sinusoid}},
-        {"time", {WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily, WaveModel::Sinusoid}},
-        {"depth", {WaveModel::PiersonMoskowitz, WaveModel::Jonswap, WaveModel::Elfouhaily, WaveModel::Sinusoid}},
-    };
-    return keys;
-}
-
-std::string modelList(const std::vector<WaveModel>& ms) {
-    std::vector<std::string> names;
-    for (WaveModel m : ms) names.push_back(surfaces::waveModelName(m));
-    return joinList(names);
-}
+// The keys every model takes; the others belong to the models' descriptors (surfaces/wave_kinds.h).
+const std::vector<std::string> kCommonKeys{"model", "size", "centre", "spacing", "triangles", "roughness"};
 
 // A 2-vector given as [x, y].
 std::pair<double, double> pairOf(const YamlNode& n, double lo, double hi, const char* unit) {
@@ -52,16 +25,21 @@ std::pair<double, double> pairOf(const YamlNode& n, double lo, double hi, const 
     const auto v = n.asDoubleList(lo, hi, unit);
     return {v[0], v[1]};
 }
-}  // namespace
 
-namespace {
+// The model the section names (located, with a did-you-mean), or nullptr when that is not a name.
+const WaveKind* namedKind(const YamlNode& n) {
+    if (!n.has("model") || !n["model"].isScalar()) return nullptr;
+    const auto m = surfaces::parseWaveModel(n["model"].asString());
+    return m ? &surfaces::waveKind(*m) : nullptr;
+}
 
 // The key of the old convention is refused with the conversion, never reinterpreted.
 void refuseOldDirectionKey(const YamlNode& n) {
     auto old = n.optional("wind_direction_deg");
     if (!old) return;
-    const bool sinusoid = n.has("model") && n["model"].isScalar() && n["model"].asString() == "sinusoid";
-    const char* key = sinusoid ? "waves_from_deg" : "wind_from_deg";
+    const WaveKind* kind = namedKind(n);
+    const bool waves = kind && kind->takes("waves_from_deg");
+    const char* key = waves ? "waves_from_deg" : "wind_from_deg";
     std::string example;
     if (old->isScalar()) {
         try {
@@ -74,44 +52,43 @@ void refuseOldDirectionKey(const YamlNode& n) {
     old->fail(fmt::format("this key was removed: it gave the direction the {} TOWARD, in degrees counter-clockwise "
                           "from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
                           "from north, like every other azimuth in a scene file{}",
-                          sinusoid ? "waves travel" : "wind blows", key, sinusoid ? "waves come" : "wind comes",
-                          example));
+                          waves ? "waves travel" : "wind blows", key, waves ? "waves come" : "wind comes", example));
 }
 
-// A key that only other models use is a mistake worth reporting.
-void refuseKeysOfOtherModels(const YamlNode& n, WaveModel model) {
-    for (const ModelKey& mk : modelKeys())
-        if (auto k = n.optional(mk.key)) {
-            bool ok = false;
-            for (WaveModel m : mk.models) ok = ok || m == model;
-            if (!ok)
-                k->fail(fmt::format("does not apply to model {}; it is used by: {}", surfaces::waveModelName(model),
-                                    modelList(mk.models)));
-        }
+// A key that only other models take is a mistake worth reporting.
+void refuseKeysOfOtherModels(const YamlNode& n, const WaveKind& kind) {
+    for (const std::string& key : surfaces::waveModelKeys())
+        if (auto k = n.optional(key); k && !kind.takes(key))
+            k->fail(fmt::format("does not apply to model {}; it is used by: {}", kind.info.name,
+                                surfaces::waveModelsTaking(key)));
 }
 
-// The wind, and its compass direction (sinusoid: the waves'); sea for cox-munk.
-void parseWind(const YamlNode& n, surfaces::WaveParams& p) {
-    if (surfaces::isWindDriven(p.model)) {
-        const YamlNode w = n["wind_speed"];  // required: the model is driven by it
-        // cox-munk has its own, narrower range: validateWaveParams reports it at this key.
-        p.windSpeed = p.model == WaveModel::CoxMunk ? w.asDouble() : w.asDouble(0.0, WaveLimits::kMaxWind, "m/s");
-        if (p.windSpeed <= 0 && p.model != WaveModel::CoxMunk)
-            w.fail(fmt::format("{} m/s is not allowed for model {}; allowed > 0 and <= {} m/s", p.windSpeed,
-                               surfaces::waveModelName(p.model), WaveLimits::kMaxWind));
-    } else {
-        p.windSpeed = 0.0;
+// The value of one of the model's parameters, range-checked at its key (unless the model's
+// validation words that range itself).
+ParamValue parseWaveParam(const YamlNode& v, const ParamSpec& spec, const WaveKind& kind) {
+    if (spec.type == ParamType::Integer)
+        return static_cast<int64_t>(v.asInt(static_cast<long long>(spec.lo), static_cast<long long>(spec.hi)));
+    const double x = v.asDouble();
+    const auto& own = kind.rangeCheckedByValidation;
+    if (!spec.inRange(x) && std::find(own.begin(), own.end(), spec.name) == own.end())
+        v.fail(fmt::format("{} is out of range; allowed {}", x, spec.rangeText()));
+    return x;
+}
+
+// The model's own keys, as its descriptor gives them: values (defaults filled in) and choices.
+void parseModelKeys(const YamlNode& n, const WaveKind& kind, surfaces::WaveParams& p) {
+    ParamValues values;
+    for (const ParamSpec& spec : kind.info.params) {
+        if (!n.has(spec.name) && spec.defaultValue) values.set(spec.name, spec.defaultParamValue());
+        else values.set(spec.name, parseWaveParam(n[spec.name], spec, kind));  // n[...]: missing required key
     }
-    // Compass direction the wind (sinusoid: the waves) comes from; default 270 (from the west, i.e.
-    // travelling toward +x, east).
-    const char* dirKey = p.model == WaveModel::Sinusoid ? "waves_from_deg" : "wind_from_deg";
-    p.windDirection = surfaces::directionFromCompass(n.getDouble(dirKey, 270.0, 0.0, 360.0, "degrees"));
-    if (p.model == WaveModel::CoxMunk)
-        p.sea = *parseName<CoxMunkSea>(n.getEnum("sea", "clean", allNames<CoxMunkSea>()));
+    std::vector<std::string> choices;
+    for (const surfaces::WaveChoice& c : kind.choices) choices.push_back(n.getEnum(c.key, c.defaultValue, c.allowed));
+    kind.apply(values, choices, p);
 }
 
-// The surface rectangle, the grid and the models' other parameters.
-void parseGridAndShape(const YamlNode& n, surfaces::WaveParams& p) {
+// The surface rectangle and the grid: the keys every model takes.
+void parseGrid(const YamlNode& n, surfaces::WaveParams& p) {
     if (auto s = n.optional("size")) {
         if (s->isSequence()) {
             const auto [sx, sy] = pairOf(*s, WaveLimits::kMinSize, WaveLimits::kMaxSize, "m");
@@ -127,15 +104,12 @@ void parseGridAndShape(const YamlNode& n, surfaces::WaveParams& p) {
         p.centreY = cy;
     }
     p.spacing = n.getDouble("spacing", p.spacing, WaveLimits::kMinSpacing, WaveLimits::kMaxSize, "m");
-    p.seed = static_cast<uint64_t>(n.getInt("seed", static_cast<long long>(p.seed), 0, LLONG_MAX));
-    p.triangles = static_cast<size_t>(n.getInt("triangles", static_cast<long long>(p.triangles), 0, 2'000'000'000LL));
-    p.fetch = n.getDouble("fetch", p.fetch, 0.0, WaveLimits::kMaxFetch, "m");
-    p.gamma = n.getDouble("gamma", p.gamma, WaveLimits::kMinGamma, WaveLimits::kMaxGamma);
-    p.amplitude = n.getDouble("amplitude", p.amplitude, 0.0, WaveLimits::kMaxAmplitude, "m");
-    p.wavelength = n.getDouble("wavelength", p.wavelength, WaveLimits::kMinSpacing, WaveLimits::kMaxSize, "m");
-    p.phase = n.getDouble("phase", p.phase, -WaveLimits::kMaxSize, WaveLimits::kMaxSize, "m");
-    p.time = n.getDouble("time", p.time, 0.0, WaveLimits::kMaxTime, "s");
-    p.depth = n.getDouble("depth", p.depth, 0.0, WaveLimits::kMaxDepth, "m");
+    // Without `triangles`: the default target, or the full grid where that target would be refused
+    // or would smooth cox-munk's facets (surfaces::defaultTriangles).
+    if (n.has("triangles"))
+        p.triangles = static_cast<size_t>(n["triangles"].asInt(0, 2'000'000'000LL));
+    else
+        p.triangles = surfaces::defaultTriangles(p);
 }
 
 // Checks on the combination (memory, triangle target, resolution). Report them at the key they
@@ -154,26 +128,26 @@ void validateAtKey(const YamlNode& n, const surfaces::WaveParams& p) {
 
 }  // namespace
 
-surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
+surfaces::WaveParams readWaterSurfaceKeys(const YamlNode& n) {
     n.expectMap();
     refuseOldDirectionKey(n);
-    n.expectKeys({"model", "wind_speed", "wind_from_deg", "waves_from_deg", "sea", "size", "centre", "spacing", "seed",
-                  "triangles", "fetch", "gamma", "amplitude", "wavelength", "phase", "time", "depth", "roughness"});
+    std::vector<std::string> keys = kCommonKeys;
+    for (const std::string& k : surfaces::waveModelKeys()) keys.push_back(k);
+    n.expectKeys(keys);
     surfaces::WaveParams p;
     p.sceneKeys = true;
     p.where = n.loc();
-    p.model = *surfaces::parseWaveModel(n.getEnum("model", "beaufort", surfaces::waveModelNames()));
-    refuseKeysOfOtherModels(n, p.model);
-    parseWind(n, p);
-    parseGridAndShape(n, p);
-    // The default target (the dissertation's 30,000) cannot exceed what a small grid holds: when the
-    // file does not set `triangles`, keep the full grid instead of refusing a value nobody wrote.
-    // cox-munk keeps the full grid by default: decimation smooths the facet slopes it is made for.
-    if (!n.has("triangles") && p.model == WaveModel::CoxMunk) p.triangles = 0;
-    if (!n.has("triangles")) {
-        const surfaces::GridSize g = surfaces::gridSizeFor(p);
-        if (static_cast<double>(p.triangles) > 2.0 * g.nx * g.ny) p.triangles = 0;
-    }
+    const auto& kinds = surfaces::waveModelKinds();
+    const WaveKind& kind = *kinds.find(n.getEnum("model", "beaufort", kinds.names()));
+    p.model = kind.model;
+    refuseKeysOfOtherModels(n, kind);
+    parseModelKeys(n, kind, p);
+    parseGrid(n, p);
+    return p;
+}
+
+surfaces::WaveParams parseWaterSurface(const YamlNode& n) {
+    const surfaces::WaveParams p = readWaterSurfaceKeys(n);
     validateAtKey(n, p);
     return p;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The scene file's `water.surface` section: the same choices as `littoral waves`, read strictly
-// (every key checked, ranges enforced, errors at file:line:column). Keys are documented in
-// docs/waves.md, "Scene file: water.surface".
+// (every key checked, ranges enforced, errors at file:line:column). The keys of each model, their
+// defaults and ranges are its descriptor's (surfaces/wave_kinds.h); docs/scene-format.md lists
+// them, docs/waves.md, "Scene file: water.surface", explains them.
 #include <optional>
 
 #include "core/scene_ir.h"
@@ -13,6 +14,10 @@ namespace littoral::scenegen {
 // Parses and validates the section (including the checks that need the whole parameter set:
 // grid memory, triangle target, resolution of the model's length scales). Throws InputError.
 surfaces::WaveParams parseWaterSurface(const YamlNode& node);
+// The first half of parseWaterSurface: the keys alone (the model, each key's type and range, the
+// defaults), as the model's descriptor (surfaces/wave_kinds.h) gives them; no check that combines
+// keys. Throws InputError at the key.
+surfaces::WaveParams readWaterSurfaceKeys(const YamlNode& node);
 
 // `water.surface.roughness`: roughness below the mesh's resolution (the dissertation's sub-pixel
 // capillary waves), as the Cox–Munk microfacet interface of render/rough_dielectric.h on every

@@ -15,6 +15,7 @@
 #include "surfaces/facetize.h"
 #include "surfaces/fft2d.h"
 #include "surfaces/synthesis.h"
+#include "surfaces/wave_kinds.h"
 #include "surfaces/wave_spectra.h"
 
 namespace littoral::surfaces {
@@ -51,17 +52,6 @@ double seconds(std::chrono::steady_clock::time_point a) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
-SpectrumParams spectrumParamsFor(const WaveParams& p) {
-    SpectrumParams s;
-    s.model = p.model == WaveModel::PiersonMoskowitz ? SpectrumModel::PiersonMoskowitz
-            : p.model == WaveModel::Jonswap          ? SpectrumModel::Jonswap
-                                                     : SpectrumModel::Elfouhaily;
-    s.windSpeed = p.windSpeed;
-    s.fetch = p.fetch;
-    s.gamma = p.gamma;
-    return s;
-}
-
 GridSpec gridSpecFor(const WaveParams& p) {
     const GridSize n = gridSizeFor(p);
     GridSpec g;
@@ -76,8 +66,7 @@ GridSpec gridSpecFor(const WaveParams& p) {
 }  // namespace
 
 const std::vector<std::string>& waveModelNames() {
-    static const std::vector<std::string> names{"beaufort", "pierson-moskowitz", "jonswap", "elfouhaily",
-                                                "cox-munk",  "sinusoid",          "flat"};
+    static const std::vector<std::string> names = waveModelKinds().names();
     return names;
 }
 
@@ -135,6 +124,16 @@ double estimateBytes(const WaveParams& p) {
     return 1.2 * (base + field + mesh + std::max({fft, decimation, stats}));
 }
 
+size_t defaultTriangles(const WaveParams& p) {
+    // Decimation smooths the facet slopes cox-munk is made for.
+    if (p.model == WaveModel::CoxMunk) return 0;
+    // A grid that cannot be measured (the checks refuse it) keeps the target.
+    if (!(p.spacing > 0) || !std::isfinite(p.sizeX / p.spacing) || !std::isfinite(p.sizeY / p.spacing))
+        return kDefaultTriangles;
+    const GridSize g = gridSizeFor(p);
+    return static_cast<double>(kDefaultTriangles) > 2.0 * g.nx * g.ny ? 0 : kDefaultTriangles;
+}
+
 namespace {
 
 // The checks of validateWaveParams.
@@ -189,13 +188,21 @@ void checkGridBudget(const WaveParams& p, const GridSize& n) {
                                             gridTris, kMinTriangles, gridTris));
 }
 
+// The advice for a grid that does not resolve a length: the spacing that would (`needed`, m), or,
+// when even the smallest allowed spacing would not, the wind that would.
+std::string spacingAdvice(double needed) {
+    if (needed >= WaveLimits::kMinSpacing) return fmt::format("use a spacing <= {:.4g} m", needed);
+    return fmt::format("that needs a spacing <= {:.4g} m, below the smallest allowed ({} m): give a stronger wind", needed,
+                       WaveLimits::kMinSpacing);
+}
+
 // Resolution of the beaufort model at grid spacing `dmax` (m).
 void checkBeaufortResolution(const WaveParams& p, double dmax) {
     const double L = beaufortPrediction(p.windSpeed).correlationLength;
     // Forward-difference slopes lose (1 - exp(-d^2/L^2)) L^2/d^2 of the slope variance: 12% at d = L/2.
     if (dmax > 0.5 * L)
-        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.3f} m of the beaufort "
-                                          "model at {} m/s; use a spacing <= {:.3f} m", dmax, L, p.windSpeed, 0.5 * L));
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the beaufort "
+                                          "model at {} m/s; {}", dmax, L, p.windSpeed, spacingAdvice(0.5 * L)));
     if (std::min(p.sizeX, p.sizeY) < 5 * L)
         log::warnOnce("waves: size {} m is less than 5 correlation lengths ({:.1f} m): expect large scatter "
                   "of the measured statistics", std::min(p.sizeX, p.sizeY), L);
@@ -209,10 +216,9 @@ void checkCoxMunkResolution(const WaveParams& p, double dmax) {
     // (the design compensates, but only while the grid resolves the correlation).
     if (dmax > 0.5 * L)
         fail(p, Key::Spacing, fmt::format("{} m does not resolve the correlation length {:.4g} m of the cox-munk "
-                                          "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); use a spacing <= "
-                                          "{:.4g} m",
+                                          "surface at {} m/s (h = {:.4g} m, RMS slope {:.4g}); {}",
                                           dmax, L, p.windSpeed, h, std::sqrt(std::max(v.upwind, v.crosswind)),
-                                          0.5 * L));
+                                          spacingAdvice(0.5 * L)));
     // One realisation's slope variance along the wind has relative standard deviation
     // sqrt(3 pi Lu Lc / (4 A)) (docs/waves.md); warn when it exceeds 5%.
     const double Lu = std::sqrt(2.0) * h / std::sqrt(v.upwind), Lc = std::sqrt(2.0) * h / std::sqrt(v.crosswind);
@@ -228,8 +234,8 @@ void checkSpectralResolution(const WaveParams& p, double dmax) {
     const WaveSpectrum s(spectrumParamsFor(p));
     const double lp = 2 * kPi / s.peakWavenumber();
     if (dmax > 0.5 * lp)
-        fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.3f} m); use a "
-                                          "spacing <= {:.3f} m", dmax, lp, 0.5 * lp));
+        fail(p, Key::Spacing, fmt::format("{} m does not resolve the spectral peak (wavelength {:.4g} m); {}", dmax, lp,
+                                          spacingAdvice(0.5 * lp)));
     if (std::min(p.sizeX, p.sizeY) < lp)
         log::warnOnce("waves: size {} m is smaller than the peak wavelength {:.1f} m: most of the wave energy is "
                   "not represented", std::min(p.sizeX, p.sizeY), lp);
@@ -279,88 +285,6 @@ void predictWindStatistics(const WaveParams& p, WaveSurface& out) {
     // The clean sea's total is Cox and Munk's own fit to it (0.003 + 5.12e-3 U, what beaufort uses);
     // the other fits publish components only.
     pr.coxMunkTotal = pr.coxMunkSea == CoxMunkSea::Clean ? coxMunkCleanTotalMss(p.windSpeed) : cm.total();
-}
-
-// The synthesis of each model: fills out.field, out.description and the model's predictions, and
-// returns the power of the grid's modes for the random models.
-std::optional<ModePower> synthesizeBeaufort(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
-    PredictedStats& pr = out.predicted;
-    const BeaufortPrediction b = beaufortPrediction(p.windSpeed);
-    pr.rmsHeight = b.rmsHeight;
-    pr.rmsSlope = b.rmsSlope;
-    pr.correlationLength = b.correlationLength;
-    out.field = synthesizeGaussian(g, b.rmsHeight, b.correlationLength, p.seed);
-    std::optional<ModePower> power = gaussianModePower(g, b.rmsHeight, b.correlationLength);
-    out.description = fmt::format("beaufort/RMS Gaussian field, U12.5 = {} m/s: h = {:.4g} m, s = {:.4g}, L = {:.4g} m",
-                                  p.windSpeed, b.rmsHeight, b.rmsSlope, b.correlationLength);
-    return power;
-}
-
-std::optional<ModePower> synthesizeFromSpectrum(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
-    PredictedStats& pr = out.predicted;
-    const WaveSpectrum s(spectrumParamsFor(p));
-    out.field = synthesizeSpectral(g, s, p.windDirection, p.seed, p.time, p.depth);
-    std::optional<ModePower> power = spectralModePower(g, s, p.windDirection);
-    // Full-spectrum moments up to 1e4 rad/m (beyond the capillary range of Elfouhaily's
-    // spectrum); the PM/JONSWAP k^-3 tail makes their full mss grow without bound, so only
-    // the resolved values are reported for them.
-    const auto m = s.moments(1.0e4);
-    pr.rmsHeight = std::sqrt(m.m0);
-    if (p.model == WaveModel::Elfouhaily) {
-        pr.mssUpwind = m.mssUpwind;
-        pr.mssCrosswind = m.mssCrosswind;
-    }
-    pr.peakWavelength = 2 * kPi / s.peakWavenumber();
-    out.description = s.describe();
-    return power;
-}
-
-std::optional<ModePower> synthesizeCoxMunk(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
-    PredictedStats& pr = out.predicted;
-    const CoxMunkSurfaceDesign d = designCoxMunkSurface(g, p.windSpeed, p.sea, p.windDirection);
-    std::optional<ModePower> power =
-        anisotropicGaussianModePower(g, d.rmsHeight, d.lengthUpwind, d.lengthCrosswind, p.windDirection);
-    out.field = synthesizeFromModePower(*power, p.seed);
-    pr.rmsHeight = d.rmsHeight;
-    pr.mssUpwind = d.target.upwind;
-    pr.mssCrosswind = d.target.crosswind;
-    pr.rmsSlope = std::sqrt(0.5 * d.target.total());
-    out.description = fmt::format("cox-munk Gaussian field ({} sea), U12.5 = {} m/s: h = {:.4g} m, mss upwind {:.4g} "
-                                  "/ crosswind {:.4g}, L = {:.4g} / {:.4g} m",
-                                  nameOf(p.sea), p.windSpeed, d.rmsHeight, d.target.upwind, d.target.crosswind,
-                                  d.lengthUpwind, d.lengthCrosswind);
-    return power;
-}
-
-void synthesizeSinusoid(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
-    PredictedStats& pr = out.predicted;
-    out.field = sinusoidField(g, p.amplitude, p.wavelength, p.phase, p.windDirection, p.time, p.depth);
-    const double ak = p.amplitude * 2 * kPi / p.wavelength;
-    pr.rmsHeight = p.amplitude / std::sqrt(2.0);
-    pr.rmsSlope = ak / 2.0;  // per axis: mss along the wave (ak)^2/2, across 0
-    pr.mssUpwindResolved = 0.5 * ak * ak;
-    pr.mssCrosswindResolved = 0.0;
-    pr.correlationLength = std::acos(std::exp(-1.0)) / (2 * kPi / p.wavelength);  // along the wave
-    pr.peakWavelength = p.wavelength;
-    out.description = fmt::format("sinusoid: amplitude {} m, wavelength {} m, first trough at {} m", p.amplitude,
-                                  p.wavelength, p.phase);
-}
-
-std::optional<ModePower> synthesize(const WaveParams& p, const GridSpec& g, WaveSurface& out) {
-    switch (p.model) {
-    case WaveModel::Beaufort: return synthesizeBeaufort(p, g, out);
-    case WaveModel::PiersonMoskowitz:
-    case WaveModel::Jonswap:
-    case WaveModel::Elfouhaily: return synthesizeFromSpectrum(p, g, out);
-    case WaveModel::CoxMunk: return synthesizeCoxMunk(p, g, out);
-    case WaveModel::Sinusoid: synthesizeSinusoid(p, g, out); break;
-    case WaveModel::Flat:
-        out.field = flatField(g);
-        out.predicted.correlationLength = kNaN;
-        out.description = "flat surface at z = 0";
-        break;
-    }
-    return std::nullopt;
 }
 
 // The statistics the grid's modes carry (`power`; without it, the model's own predictions).
@@ -415,7 +339,7 @@ WaveSurface generateWaveSurface(const WaveParams& p) {
     predictWindStatistics(p, out);
     Progress progress("waves", 3, "stages");
     auto t0 = std::chrono::steady_clock::now();
-    const std::optional<ModePower> power = synthesize(p, g, out);
+    const std::optional<ModePower> power = waveKind(p.model).synthesize(p, g, out);
     predictResolvedStatistics(p, g, power, out.predicted);
     out.predicted.significantWaveHeight = 4.0 * out.predicted.rmsHeight;
     out.seconds.synthesis = seconds(t0);

@@ -57,6 +57,9 @@ struct WaveLimits {
     static constexpr double kMaxTime = 1.0e6;         // s
 };
 
+// The dissertation's triangle target after decimation (its Tables 9.5 and 10.2).
+inline constexpr size_t kDefaultTriangles = 30000;
+
 struct WaveParams {
     WaveModel model = WaveModel::Beaufort;
     // Wind speed, m/s, at the model's reference height: 12.5 m for beaufort and cox-munk (Cox and
@@ -69,7 +72,7 @@ struct WaveParams {
     double centreX = 0.0, centreY = 0.0;  // m
     double spacing = 0.25;            // m; the grid uses the largest spacing <= this that divides the size
     uint64_t seed = 500;              // dissertation's seed
-    size_t triangles = 30000;         // target after decimation; 0 = keep the full grid
+    size_t triangles = kDefaultTriangles;  // target after decimation; 0 = keep the full grid
     // Model-specific
     double fetch = 0.0;               // m, jonswap/elfouhaily; 0 = fully developed
     double gamma = 3.3;               // jonswap peak enhancement
@@ -128,6 +131,11 @@ struct GridSize { int nx = 0, ny = 0; };
 GridSize gridSizeFor(const WaveParams& p);
 // Estimated peak memory of generateWaveSurface, bytes (checked before anything is allocated).
 double estimateBytes(const WaveParams& p);
+
+// The triangle target when none is given (the other fields set): kDefaultTriangles, or 0 (the full
+// grid) for cox-munk, whose facet slopes decimation would smooth, and for a grid with fewer
+// triangles than that, rather than refusing a target nobody asked for.
+size_t defaultTriangles(const WaveParams& p);
 
 // Checks every parameter and the combinations (grid size vs memory and triangle target,
 // spacing vs correlation length); throws InputError naming the option or key and what is allowed.

@@ -1,12 +1,13 @@
 // The kind descriptors against everything that reads them: for every registered kind of every
-// family (phase functions, estimators, probe quantities, sensor types, medium models and water
-// presets), each documented parameter is accepted by the scene-file
+// family (phase functions, estimators, probe quantities, material types, sensor types, medium
+// models, water presets and wave models), each documented parameter is accepted by the scene-file
 // parser at its default and at both ends of its range, refused just outside with a located error
 // naming the range, round-trips through the Scene IR, and is range-checked by the renderer's
 // factory alike; unknown names get a did-you-mean; docs/scene-format.md lists exactly the
 // registered parameters with their ranges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,8 @@
 #include "scenegen/scene_file.h"
 #include "scenegen/water_constituents.h"
 #include "scenegen/yaml_reader.h"
+#include "scenegen/surface_section.h"
+#include "surfaces/wave_kinds.h"
 
 using namespace littoral;
 using namespace littoral::scenegen;
@@ -52,7 +55,7 @@ std::vector<Trial> insideValues(const ParamSpec& p) {
         else v.push_back({fmt::format("{}", x), x});
     };
     if (p.defaultValue) add(*p.defaultValue);
-    add(p.lo);
+    add(p.loOpen ? p.lo + 1e-6 * std::max(1.0, p.hi - p.lo) : p.lo);  // an open end: just inside
     add(p.hi);
     return v;
 }
@@ -61,7 +64,7 @@ std::vector<std::string> outsideTexts(const ParamSpec& p) {
     if (p.type == ParamType::Integer)
         return {fmt::format("{}", static_cast<long long>(p.lo) - 1), fmt::format("{}", static_cast<long long>(p.hi) + 1)};
     const double d = 1e-6 * std::max(1.0, p.hi - p.lo);
-    return {fmt::format("{}", p.lo - d), fmt::format("{}", p.hi + d)};
+    return {fmt::format("{}", p.loOpen ? p.lo : p.lo - d), fmt::format("{}", p.hi + d)};
 }
 
 scenegen::SceneSpec parse(const std::string& text) {
@@ -355,6 +358,174 @@ TEST(KindDescriptors, DocsListExactlyTheRegisteredParameters) {
     std::vector<std::string> quantities;
     for (const auto& row : docsTable("probe quantity")) quantities.push_back(row[0]);
     EXPECT_EQ(quantities, probeQuantityKinds().names());
+}
+
+// ---- wave models -------------------------------------------------------------------------------
+
+namespace {
+
+using surfaces::WaveKind;
+
+// A small, coarse water.surface section of model `k` (parsed only, never generated): `key: value`
+// on line 5, then the model's required parameters at a middle value.
+std::string waveScene(const WaveKind& k, const std::string& key = "", const std::string& value = "") {
+    std::string s = "scene: {name: kinds}\nwater:\n  surface:\n    model: " + k.info.name + "\n";
+    if (!key.empty()) s += "    " + key + ": " + value + "\n";
+    for (const ParamSpec& p : k.info.params)
+        if (p.name != key && !p.defaultValue) s += "    " + p.name + ": 5\n";  // wind: 5 m/s suits every model
+    return s + "    size: 20\n    spacing: 0.5\n    triangles: 0\n";
+}
+
+scenegen::YamlNode surfaceNode(const std::string& text) {
+    return scenegen::YamlNode::loadString(text, "kinds.yaml")["water"]["surface"];
+}
+
+// The InputError message of the full parser (keys and the checks that combine them), "" if none.
+std::string surfaceError(const std::string& text, SourceLoc* where = nullptr) {
+    try {
+        (void)scenegen::parseWaterSurface(surfaceNode(text));
+    } catch (const InputError& e) {
+        if (where) *where = e.where();
+        return e.message();
+    }
+    return "";
+}
+
+// What the descriptor makes of its defaults with `key` set to `value`.
+surfaces::WaveParams fromDescriptor(const WaveKind& k, const std::string& key, const ParamValue& value) {
+    ParamValues v;
+    for (const ParamSpec& p : k.info.params) v.set(p.name, p.name == key ? value : ParamValue(5.0));
+    for (const ParamSpec& p : k.info.params)
+        if (p.name != key && p.defaultValue) v.set(p.name, p.defaultParamValue());
+    std::vector<std::string> choices;
+    for (const auto& c : k.choices) choices.push_back(c.defaultValue);
+    surfaces::WaveParams w;
+    w.model = k.model;
+    k.apply(v, choices, w);
+    return w;
+}
+
+void expectSameModelFields(const surfaces::WaveParams& a, const surfaces::WaveParams& b) {
+    EXPECT_EQ(a.model, b.model);
+    EXPECT_EQ(a.windSpeed, b.windSpeed);
+    EXPECT_EQ(a.windDirection, b.windDirection);
+    EXPECT_EQ(a.seed, b.seed);
+    EXPECT_EQ(a.sea, b.sea);
+    EXPECT_EQ(a.fetch, b.fetch);
+    EXPECT_EQ(a.gamma, b.gamma);
+    EXPECT_EQ(a.amplitude, b.amplitude);
+    EXPECT_EQ(a.wavelength, b.wavelength);
+    EXPECT_EQ(a.phase, b.phase);
+    EXPECT_EQ(a.time, b.time);
+    EXPECT_EQ(a.depth, b.depth);
+}
+
+}  // namespace
+
+// Every parameter of every wave model: the default and both ends of its range are read by the
+// scene-file parser as the descriptor gives them (ends that a check combining keys refuses, such as
+// a wind too weak for any allowed spacing to resolve, are read by readWaterSurfaceKeys, the parser's
+// first half); just outside is refused at the key with the range.
+TEST(KindDescriptors, WaveModelParametersMatchTheSurfaceParser) {
+    const auto& kinds = surfaces::waveModelKinds();
+    ASSERT_EQ(kinds.names(), surfaces::waveModelNames());
+    for (const WaveKind& k : kinds.kinds()) {
+        SCOPED_TRACE(k.info.name);
+        EXPECT_EQ(k.info.family, "wave model");
+        EXPECT_FALSE(k.info.doc.empty());
+        EXPECT_EQ(&surfaces::waveKind(k.model), &k);
+        // The defaults (and the required keys at 5) pass every check.
+        EXPECT_EQ(surfaceError(waveScene(k)), "");
+        expectSameModelFields(scenegen::parseWaterSurface(surfaceNode(waveScene(k))), fromDescriptor(k, "", 0.0));
+        for (const ParamSpec& p : k.info.params) {
+            SCOPED_TRACE(p.name);
+            EXPECT_FALSE(p.doc.empty());
+            EXPECT_NE(p.type, ParamType::Boolean);
+            for (const Trial& t : insideValues(p)) {
+                const surfaces::WaveParams w = scenegen::readWaterSurfaceKeys(surfaceNode(waveScene(k, p.name, t.text)));
+                expectSameModelFields(w, fromDescriptor(k, p.name, t.value));
+            }
+            const auto& own = k.rangeCheckedByValidation;
+            const bool ownWords = std::find(own.begin(), own.end(), p.name) != own.end();
+            for (const std::string& out : outsideTexts(p)) {
+                SourceLoc where;
+                const std::string msg = surfaceError(waveScene(k, p.name, out), &where);
+                const std::string range = ownWords ? fmt::format("allowed {} to {} {}", p.lo, p.hi, p.unit)
+                                                   : "out of range; allowed " + p.rangeText();
+                EXPECT_NE(msg.find(range), std::string::npos) << out << ": " << msg;
+                EXPECT_NE(msg.find("water.surface." + p.name), std::string::npos) << msg;
+                EXPECT_EQ(where.file, "kinds.yaml");
+                EXPECT_EQ(where.line, 5) << msg;
+            }
+        }
+        for (const auto& c : k.choices) {
+            SCOPED_TRACE(c.key);
+            EXPECT_NE(std::find(c.allowed.begin(), c.allowed.end(), c.defaultValue), c.allowed.end());
+            for (const std::string& v : c.allowed) EXPECT_EQ(surfaceError(waveScene(k, c.key, v)), "") << v;
+            const std::string msg = surfaceError(waveScene(k, c.key, c.allowed.back() + "x"));
+            EXPECT_NE(msg.find("did you mean '" + c.allowed.back() + "'"), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST(KindDescriptors, WaveModelKeysOfOtherModelsAndUnknownModels) {
+    const auto& kinds = surfaces::waveModelKinds();
+    // A key of another model is refused at the key, naming the models that take it.
+    for (const std::string& key : surfaces::waveModelKeys()) {
+        const std::string users = surfaces::waveModelsTaking(key);
+        ASSERT_FALSE(users.empty()) << key;
+        for (const WaveKind& k : kinds.kinds()) {
+            if (k.takes(key)) continue;
+            SourceLoc where;
+            const std::string msg = surfaceError(waveScene(k, key, key == "sea" ? "clean" : "1"), &where);
+            EXPECT_NE(msg.find(fmt::format("water.surface.{}: does not apply to model {}; it is used by: {}", key,
+                                           k.info.name, users)),
+                      std::string::npos)
+                << msg;
+            EXPECT_EQ(where.line, 5) << msg;
+        }
+    }
+    EXPECT_EQ(surfaces::waveModelsTaking("gamma"), "jonswap");
+    // An unknown model gets a did-you-mean, at the model's line.
+    SourceLoc where;
+    const std::string msg = surfaceError("water:\n  surface:\n    model: jonswop\n    wind_speed: 5\n", &where);
+    EXPECT_NE(msg.find("did you mean 'jonswap'"), std::string::npos) << msg;
+    EXPECT_EQ(where.line, 3) << msg;
+    try {
+        (void)kinds.get("elfouhali", "water.surface.model");
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("did you mean 'elfouhaily'"), std::string::npos) << e.what();
+    }
+}
+
+// docs/scene-format.md lists every wave model's parameters and choices, with the descriptor's
+// default and range, and nothing else.
+TEST(KindDescriptors, DocsListExactlyTheRegisteredWaveModelParameters) {
+    std::set<std::pair<std::string, std::string>> documented, registered;
+    for (const auto& row : docsTable("wave model")) {
+        if (row[0] == "model") continue;  // the header
+        ASSERT_GE(row.size(), 5u);
+        documented.insert({row[0], row[1]});
+        if (row[1] == "—") continue;
+        const WaveKind* k = surfaces::waveModelKinds().find(row[0]);
+        ASSERT_NE(k, nullptr) << row[0];
+        if (const auto* c = k->choice(row[1])) {
+            EXPECT_EQ(row[2], c->defaultValue) << row[0] << " " << row[1];
+            EXPECT_EQ(row[3], joinList(c->allowed)) << row[0] << " " << row[1];
+            continue;
+        }
+        const ParamSpec* p = k->info.param(row[1]);
+        ASSERT_NE(p, nullptr) << row[0] << " " << row[1];
+        EXPECT_EQ(row[3], p->rangeText()) << row[0] << " " << row[1];
+        EXPECT_EQ(row[2], p->defaultValue ? formatValue(p->defaultParamValue()) : "required") << row[0] << " " << row[1];
+    }
+    for (const WaveKind& k : surfaces::waveModelKinds().kinds()) {
+        if (k.info.params.empty() && k.choices.empty()) registered.insert({k.info.name, "—"});
+        for (const ParamSpec& p : k.info.params) registered.insert({k.info.name, p.name});
+        for (const auto& c : k.choices) registered.insert({k.info.name, c.key});
+    }
+    EXPECT_EQ(documented, registered);
 }
 
 TEST(KindDescriptors, ProbeQuantitiesMatchTheParserAndTheRenderer) {

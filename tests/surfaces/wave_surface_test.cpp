@@ -238,4 +238,35 @@ TEST(WaveSurface, BadParametersAreInputErrors) {
     p.sceneKeys = true;
     p.windSpeed = -1;
     expectError(p, "wind_speed");
+    // A length no allowed spacing resolves: its advice names significant digits and the smallest
+    // spacing, never "use a spacing <= 0.000 m" (hostile round 3, m20).
+    p = WaveParams{};
+    p.model = WaveModel::Elfouhaily;
+    p.windSpeed = 0.01;
+    p.sizeX = p.sizeY = 1;
+    p.spacing = 0.5;
+    p.triangles = 0;
+    expectError(p, "wavelength 9.08e-05 m); that needs a spacing <= 4.54e-05 m, below the smallest allowed (0.001 m)");
+    p.model = WaveModel::Beaufort;
+    expectError(p, "below the smallest allowed (0.001 m): give a stronger wind");
+}
+
+// Without a target, the dissertation's 30,000 triangles, or the full grid where that target would
+// be refused (a smaller grid) or would smooth cox-munk's facets.
+TEST(WaveSurface, DefaultTriangleTarget) {
+    WaveParams p;
+    EXPECT_EQ(defaultTriangles(p), 30000u);  // 1200 x 1200
+    p.sizeX = p.sizeY = 10;
+    p.spacing = 1;
+    EXPECT_EQ(defaultTriangles(p), 0u);  // 200 triangles
+    p.sizeX = p.sizeY = 123;
+    EXPECT_EQ(defaultTriangles(p), 30000u);  // 30258 triangles
+    p.sizeX = p.sizeY = 122;
+    EXPECT_EQ(defaultTriangles(p), 0u);  // 29768
+    p.model = WaveModel::CoxMunk;
+    p.sizeX = p.sizeY = 300;
+    EXPECT_EQ(defaultTriangles(p), 0u);
+    p.model = WaveModel::Beaufort;
+    p.spacing = 0;  // refused by the checks, which name the spacing
+    EXPECT_EQ(defaultTriangles(p), 30000u);
 }

@@ -94,6 +94,7 @@ TEST(WavesCli, BadInputExitsOneWithoutOutput) {
         {"waves --wind 6 --sea slick", "cox-munk only"},
         {"waves --model cox-munk --wind 20", "Cox-Munk range"},
         {"waves --model cox-munk --wind 6 --sea slik", "did you mean 'slick'"},
+        {"waves --model elfouhaily --wind 0.01 --size 1 --spacing 0.5 --triangles 0", "below the smallest allowed"},
     };
     for (const auto& c : cases) {
         const CmdResult r = run(c.args + outs);
@@ -105,6 +106,23 @@ TEST(WavesCli, BadInputExitsOneWithoutOutput) {
     const CmdResult r = run("waves --wind 6 --out " + (d / "x.stl").string());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+    fs::remove_all(d);
+}
+
+// Without --triangles a grid smaller than the default target keeps its full grid (as in a scene
+// file), instead of refusing a target nobody gave.
+TEST(WavesCli, SmallGridWithoutTargetKeepsTheFullGrid) {
+    ASSERT_TRUE(fs::exists(kBinary)) << "littoral binary not built: " << kBinary;
+    const fs::path d = tempDir();
+    const fs::path stats = d / "small.json";
+    const CmdResult r = run("waves --wind 5 --size 10 --spacing 1 --stats " + stats.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = nlohmann::json::parse(std::ifstream(stats));
+    EXPECT_EQ(j["mesh"]["triangles"].get<long long>(), 200);
+    // A target given is checked against the grid as before.
+    const CmdResult t = run("waves --wind 5 --size 10 --spacing 1 --triangles 1000");
+    EXPECT_EQ(t.status, 1);
+    EXPECT_NE(t.output.find("--triangles: 1000 is not possible"), std::string::npos) << t.output;
     fs::remove_all(d);
 }
 
