@@ -49,6 +49,7 @@ MaterialKind dielectric() {
     k.type = T::Dielectric;
     k.lobes = kReflection | kTransmission | kSpecular;
     k.defaultSolver = S::Fresnel;
+    k.namedSolvers = {S::Fresnel};
     k.noSolverWhy = kFresnelOnly;
     k.inSceneFiles = true;
     k.sceneKeys = {"refractive_index", "absorption_per_m"};
@@ -70,6 +71,7 @@ MaterialKind roughDielectric() {
     k.irKeys = {"sea", "shadowing"};
     k.lobes = kReflection | kTransmission | kGlossy;
     k.defaultSolver = S::Fresnel;
+    k.namedSolvers = {S::Fresnel};
     k.noSolverWhy = kFresnelOnly;
     return k;
 }

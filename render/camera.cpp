@@ -1,5 +1,6 @@
 #include "render/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 
@@ -85,6 +86,18 @@ Projection makeProjection(const ir::Sensor& s, const std::string& who) {
 
 }  // namespace
 
+namespace {
+// The direction of v as a unit vector, scaled by its largest component first so that a vector like
+// (0, 1e200, 0), whose length overflows, keeps its direction. InputError when v is not finite or
+// is zero.
+Vec3 unitDirection(const Vec3& v, const std::string& who, const char* what) {
+    const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    if (!isFinite(v) || !(m > 0))
+        throw InputError(fmt::format("{}: {} vector {} must be finite and non-zero", who, what, fmt::streamed(v)));
+    return normalize(Vec3{v.x / m, v.y / m, v.z / m});
+}
+}  // namespace
+
 Camera::Camera(const ir::Sensor& s)
     : name_(s.name), position_(s.position), width_(s.width), height_(s.height), spp_(s.samplesPerPixel) {
     const std::string who = fmt::format("sensor '{}'", s.name);
@@ -94,11 +107,10 @@ Camera::Camera(const ir::Sensor& s)
     if (s.samplesPerPixel < 1)
         throw InputError(fmt::format("{}: samplesPerPixel {} must be at least 1", who, s.samplesPerPixel));
     if (!isFinite(s.position)) throw InputError(fmt::format("{}: position is not finite", who));
-    if (!(length(s.forward) > 0) || !isFinite(s.forward))
-        throw InputError(fmt::format("{}: forward vector must be non-zero", who));
-    forward_ = normalize(s.forward);
-    const Vec3 r = cross(forward_, s.up);
-    if (!(length(r) > 1e-9 * length(s.up)))
+    forward_ = unitDirection(s.forward, who, "forward");
+    const Vec3 up = unitDirection(s.up, who, "up");
+    const Vec3 r = cross(forward_, up);
+    if (!(length(r) > 1e-9))
         throw InputError(fmt::format("{}: up vector {} is parallel to forward {}", who, fmt::streamed(s.up),
                                      fmt::streamed(s.forward)));
     right_ = normalize(r);

@@ -2,6 +2,8 @@
 // hits, self-intersection), camera geometry, thread-count determinism, probes and bad-input errors.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -281,6 +283,23 @@ TEST(Camera, PixelCentreConvention) {
     ir::Sensor bad = s;
     bad.width = 0;
     EXPECT_THROW(Camera{bad}, InputError);
+}
+
+// An up vector is a direction: (0, 1e200, 0), whose length overflows a double, gives the camera
+// of (0, 1, 0) (it was refused as "parallel to forward"); zero and non-finite ones are refused.
+TEST(Camera, UpVectorIsADirectionWhateverItsLength) {
+    const ir::Sensor s = pinhole("c", {1, 2, 3}, {0, 0, -1}, {0, 1, 0}, 20, 10, 0.005, 1e-4);
+    ir::Sensor huge = s;
+    huge.up = {0, 1e200, 0};
+    const Ray a = Camera(s).generateRay(0.5, 0.5), b = Camera(huge).generateRay(0.5, 0.5);
+    EXPECT_EQ(a.d.x, b.d.x);
+    EXPECT_EQ(a.d.y, b.d.y);
+    EXPECT_EQ(a.d.z, b.d.z);
+    for (const Vec3 bad : {Vec3{0, 0, 0}, Vec3{0, std::numeric_limits<double>::infinity(), 0}, Vec3{0, 0, 1}}) {
+        ir::Sensor t = s;
+        t.up = bad;
+        EXPECT_THROW(Camera{t}, InputError);
+    }
 }
 
 // ---- determinism -----------------------------------------------------------------------------
