@@ -403,8 +403,9 @@ void scaleElevations(Grid& g, const RasterOptions& opt, const std::string& file)
         const double raw = g.z[k], z = opt.zScale * raw + opt.zOffset;
         if (!(z >= kLowest && z <= kHighest))
             throw InputError(SourceLoc{file},
-                             fmt::format("sample (column {}, row {}; counted from 1, row 1 = north) holds {}, which is "
-                                         "an elevation of {} m after z_scale {} and z_offset_m {}; allowed {} to {} m "
+                             fmt::format("sample (column {}, row {}; counted from 1, row 1 = north) holds {:.7g}, which "
+                                         "is an elevation of {:.7g} m after z_scale {} and z_offset_m {}; allowed {} "
+                                         "to {} m "
                                          "(a NODATA value the file does not declare? fill such holes before "
                                          "loading)",
                                          k % size_t(g.nx) + 1, k / size_t(g.nx) + 1, raw, z, opt.zScale, opt.zOffset,
