@@ -50,6 +50,10 @@ public:
     Extent extent() const override {
         return {g_.xc0, g_.yTop - double(g_.ny - 1) * g_.dy, g_.xc0 + double(g_.nx - 1) * g_.dx, g_.yTop};
     }
+    Extent footprint() const override {
+        const Extent e = extent();
+        return {e.x0 - 0.5 * g_.dx, e.y0 - 0.5 * g_.dy, e.x1 + 0.5 * g_.dx, e.y1 + 0.5 * g_.dy};
+    }
     std::string describe() const override {
         return fmt::format("raster {} ({} x {} samples, {} x {} m spacing)", name_, g_.nx, g_.ny, g_.dx, g_.dy);
     }
@@ -286,6 +290,30 @@ std::vector<double> readImageSamples(const std::filesystem::path& path, const Ra
     return raw;
 }
 
+// With opt.utmZone set (the raster is placed by the scene's UTM frame), the projected system the
+// GeoTIFF declares, if any, must be UTM in that zone and hemisphere.
+void checkUtmZone(const GeoTiffInfo& geo, const RasterOptions& opt, const std::string& file) {
+    if (opt.utmZone == 0 || geo.projectedCrs == 0) return;
+    const int c = geo.projectedCrs;
+    int zone = 0;
+    bool north = true;
+    std::string datum = "WGS 84";
+    if (c >= 32601 && c <= 32660) zone = c - 32600;
+    else if (c >= 32701 && c <= 32760) zone = c - 32700, north = false;
+    else if (c >= 26901 && c <= 26923) zone = c - 26900, datum = "NAD83";
+    const std::string scene = fmt::format("UTM zone {}{}", opt.utmZone, opt.utmNorth ? 'N' : 'S');
+    if (zone == 0)
+        throw InputError(SourceLoc{file}, fmt::format("the GeoTIFF declares the projected system EPSG:{}, which is not "
+                                                      "UTM; origin: scene places a raster in the scene's frame ({}): "
+                                                      "reproject it to {}, or give origin_x_m and origin_y_m in its "
+                                                      "own system",
+                                                      c, scene, scene));
+    if (zone != opt.utmZone || north != opt.utmNorth)
+        throw InputError(SourceLoc{file}, fmt::format("the GeoTIFF is in {} / UTM zone {}{} (EPSG:{}), but the scene's "
+                                                      "frame is {} (from scene.origin); reproject the raster to {}",
+                                                      datum, zone, north ? 'N' : 'S', c, scene, scene));
+}
+
 // Sample spacing and origin from the GeoTIFF tags (north-up, projected in metres), in the local
 // frame of opt.originX/Y.
 void georeference(const GeoTiffInfo& geo, const RasterOptions& opt, const std::string& file, Grid& g) {
@@ -314,6 +342,7 @@ void georeference(const GeoTiffInfo& geo, const RasterOptions& opt, const std::s
     if (!(a > 0) || !(f < 0))
         throw InputError(SourceLoc{file}, fmt::format("GeoTIFF pixel size ({}, {}) must be positive in x and "
                                                       "negative in y (north-up)", a, f));
+    checkUtmZone(geo, opt, file);
     const double c = geo.rasterType == 2 ? 0.0 : 0.5;  // PixelIsPoint vs PixelIsArea centres
     g.dx = a;
     g.dy = -f;
@@ -322,7 +351,8 @@ void georeference(const GeoTiffInfo& geo, const RasterOptions& opt, const std::s
 }
 
 // Every sample must be finite and not the GDAL NODATA value.
-void checkComplete(const std::vector<double>& raw, const GeoTiffInfo& geo, const Grid& g, const std::string& file) {
+void checkComplete(const std::vector<double>& raw, const GeoTiffInfo& geo, const Grid& g, const std::string& file,
+                   int channel) {
     std::optional<double> nodata;
     if (geo.gdalNodata) {
         double v;
@@ -335,9 +365,10 @@ void checkComplete(const std::vector<double>& raw, const GeoTiffInfo& geo, const
             const bool isNodata = nodata && (std::isnan(*nodata) ? std::isnan(v) : v == *nodata);
             if (isNodata || !std::isfinite(v))
                 throw InputError(SourceLoc{file},
-                                 fmt::format("pixel row {}, column {} (1-based, row 1 = north) is {} ({}); the "
-                                             "terrain must be complete, fill holes before loading", j + 1, i + 1,
-                                             isNodata ? "NODATA" : "not finite", v));
+                                 fmt::format("pixel (column {}, row {}; counted from 1, row 1 = north), channel {} is "
+                                             "{} ({}); every sample must be a finite elevation: the terrain must be "
+                                             "complete, fill holes before loading",
+                                             i + 1, j + 1, channel, isNodata ? "NODATA" : "not finite", v));
         }
 }
 
@@ -358,9 +389,29 @@ Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
         throw InputError(SourceLoc{file}, "raster has no georeferencing (no GeoTIFF ModelPixelScale/ModelTiepoint or "
                                           "ModelTransformation); give its extent in the local frame");
     }
-    checkComplete(raw, geo, g, file);
+    checkComplete(raw, geo, g, file, opt.channel);
     g.z = std::move(raw);
     return g;
+}
+
+// z = zScale * value + zOffset for every sample, which must then be an elevation on Earth: a sample
+// far outside (3.4e38 is a common undeclared NODATA value of float rasters) would make a seabed
+// thousands of kilometres deep, or an infinite one after scaling.
+void scaleElevations(Grid& g, const RasterOptions& opt, const std::string& file) {
+    constexpr double kLowest = -12000, kHighest = 9000;  // m: below the deepest trench, above the highest peak
+    for (size_t k = 0; k < g.z.size(); ++k) {
+        const double raw = g.z[k], z = opt.zScale * raw + opt.zOffset;
+        if (!(z >= kLowest && z <= kHighest))
+            throw InputError(SourceLoc{file},
+                             fmt::format("sample (column {}, row {}; counted from 1, row 1 = north) holds {:.7g}, which "
+                                         "is an elevation of {:.7g} m after z_scale {} and z_offset_m {}; allowed {} "
+                                         "to {} m "
+                                         "(a NODATA value the file does not declare? fill such holes before "
+                                         "loading)",
+                                         k % size_t(g.nx) + 1, k / size_t(g.nx) + 1, raw, z, opt.zScale, opt.zOffset,
+                                         kLowest, kHighest));
+        g.z[k] = z;
+    }
 }
 
 bool looksLikeAsciiGrid(const std::filesystem::path& path) {
@@ -417,7 +468,7 @@ std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const Ras
     } else {
         g = readImage(path, opt);
     }
-    for (double& z : g.z) z = opt.zScale * z + opt.zOffset;
+    scaleElevations(g, opt, path.string());
     return std::make_unique<RasterTerrain>(std::move(g), path.filename().string());
 }
 

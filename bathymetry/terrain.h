@@ -48,6 +48,10 @@ public:
     virtual ~Terrain() = default;
     virtual double elevation(double x, double y) const = 0;  // metres, z up
     virtual Extent extent() const = 0;
+    // The plan area the terrain's data stand for: extent() but for rasters, whose samples each
+    // stand for their cell, so the rectangle of sample centres grown by half a cell on every side.
+    // Outside it a raster repeats its edge values.
+    virtual Extent footprint() const { return extent(); }
     // One line for logs and validity reports, e.g. "Dean profile A=0.1 m^(1/3), shoreline x=30 m".
     virtual std::string describe() const = 0;
 };
@@ -139,6 +143,7 @@ std::unique_ptr<Terrain> makeBarTrough(const Extent& extent, const BarTrough& p)
 //      pixel-is-point: at it); ASCII xllcorner/xllcenter, yllcorner/yllcenter, cellsize (or dx, dy).
 //      These are projected coordinates (e.g. UTM metres); the local frame is x = X - originX,
 //      y = Y - originY. A GeoTIFF in geographic degrees (GTModelType 2) or rotated is refused.
+//      With utmZone set, a GeoTIFF's declared projected system must be that UTM zone.
 //   A TIFF with neither is an InputError. The GDAL_NODATA tag and NODATA_value are honoured.
 // Interpolation: bilinear between sample centres; extent() is the rectangle of sample centres and
 // queries outside it clamp to the nearest edge point. A NODATA sample anywhere is an InputError
@@ -150,6 +155,12 @@ struct RasterOptions {
     double zScale = 1;             // elevation = zScale * value + zOffset
     double zOffset = 0;            // m, e.g. datum to still-water level shift
     int channel = 0;               // TIFF channel holding elevation
+    // The scene's UTM zone when originX/originY are the UTM origin of the scene's frame (scene
+    // file `origin: scene`); 0 = not set. A GeoTIFF that declares its projected system
+    // (ProjectedCSTypeGeoKey) must then be UTM in this zone and hemisphere: WGS 84 (EPSG 326zz
+    // north, 327zz south) or NAD83 (EPSG 269zz, north); another system is an InputError.
+    int utmZone = 0;
+    bool utmNorth = true;
 };
 std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const RasterOptions& options = {});
 // An ESRI ASCII grid already in memory, georeferenced by its own header; `file` names it in

@@ -55,7 +55,18 @@ std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
         throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), in->geterror()));
     // 8-bit images are normalised by OIIO to [0, 1]; float images are taken as they are.
     t->values.resize(static_cast<size_t>(spec.width) * spec.height);
-    for (size_t i = 0; i < t->values.size(); ++i) t->values[i] = all[i * spec.nchannels];
+    for (size_t i = 0; i < t->values.size(); ++i) {
+        const float v = all[i * spec.nchannels];
+        // The texture multiplies a reflectance: a NaN, an infinity or a negative value would make
+        // the radiance of every ray that lands there meaningless.
+        if (!(std::isfinite(v) && v >= 0))
+            throw InputError(SourceLoc{path.string()},
+                             fmt::format("texture pixel (column {}, row {}; counted from 0, row 0 = north), channel 0 "
+                                         "is {}; a texture multiplies a reflectance, so its values must be finite and "
+                                         ">= 0",
+                                         i % size_t(spec.width), i / size_t(spec.width), v));
+        t->values[i] = v;
+    }
     return t;
 }
 

@@ -31,6 +31,53 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// A raster's options, with the local origin taken from the scene's UTM frame for `origin: scene`.
+bathymetry::RasterOptions rasterOptions(const BathymetrySpec& b, const bathymetry::GeoFrame* frame) {
+    bathymetry::RasterOptions o = b.raster;
+    if (!b.rasterOriginFromScene) return o;
+    if (!frame)
+        throw InputError(b.rasterOriginLoc, "bathymetry.origin: 'scene' takes the raster's offset from scene.origin, "
+                                            "which this scene does not give (latitude, longitude)");
+    if (frame->kind() != bathymetry::GeoFrame::Kind::Utm)
+        throw InputError(b.rasterOriginLoc,
+                         "bathymetry.origin: 'scene' places a projected (UTM) raster in the scene's UTM frame, but the "
+                         "frame is the local tangent plane; set bathymetry.frame: utm (objects and soundings given by "
+                         "latitude/longitude then use the same projection as the raster)");
+    o.originX = frame->originUtm().easting;
+    o.originY = frame->originUtm().northing;
+    o.utmZone = frame->zone();
+    o.utmNorth = frame->originUtm().north;
+    return o;
+}
+
+// A raster must cover the domain: outside its cells it repeats its edge values, so a raster that
+// misses the domain (a georeferenced one without its origin, say) would silently give a flat seabed.
+void checkRasterCoversDomain(const BathymetrySpec& b, const bathymetry::Terrain& t, const bathymetry::Extent& d) {
+    const bathymetry::Extent e = t.footprint();
+    const double tol = 1e-9 * std::max({1.0, d.width(), d.height(), std::abs(e.x0), std::abs(e.y0)});
+    if (e.x0 <= d.x0 + tol && e.x1 >= d.x1 - tol && e.y0 <= d.y0 + tol && e.y1 >= d.y1 - tol) return;
+    const std::string both = fmt::format("the raster {} covers x [{:.10g}, {:.10g}], y [{:.10g}, {:.10g}] m in the "
+                                         "local frame (its cells), and the scene domain is x [{:.10g}, {:.10g}], "
+                                         "y [{:.10g}, {:.10g}] m",
+                                         b.file.filename().string(), e.x0, e.x1, e.y0, e.y1, d.x0, d.x1, d.y0, d.y1);
+    const double gapX = std::max({0.0, e.x0 - d.x1, d.x0 - e.x1}), gapY = std::max({0.0, e.y0 - d.y1, d.y0 - e.y1});
+    const double gap = std::hypot(gapX, gapY);
+    std::string msg;
+    if (gapX > 0 || gapY > 0) {
+        msg = fmt::format("bathymetry.{}: {}: the raster lies {} from the domain, entirely outside it",
+                          b.rasterPlacementKey, both,
+                          gap >= 1000 ? fmt::format("{:.4g} km", gap / 1000) : fmt::format("{:.4g} m", gap));
+        msg += b.raster.extent ? "; give an extent that contains the domain"
+                               : "; a georeferenced raster needs the projected coordinates of the local origin: "
+                                 "origin: scene (from scene.origin, with frame: utm) or origin_x_m and origin_y_m";
+    } else {
+        msg = fmt::format("bathymetry.{}: {}, which it covers only in part; beyond the raster the seabed would repeat "
+                          "the raster's edge values: use a raster that covers the domain, or a smaller scene.domain",
+                          b.rasterPlacementKey, both);
+    }
+    throw InputError(b.rasterPlacementLoc, msg);
+}
+
 std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const bathymetry::Extent& extent,
                                                  const bathymetry::GeoFrame* frame) {
     try {
@@ -38,7 +85,7 @@ std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const 
             case BathymetrySpec::Kind::PlanarSlope: return bathymetry::makePlanarSlope(extent, b.planar);
             case BathymetrySpec::Kind::Dean: return bathymetry::makeDeanProfile(extent, b.dean);
             case BathymetrySpec::Kind::BarTrough: return bathymetry::makeBarTrough(extent, b.barTrough);
-            case BathymetrySpec::Kind::Raster: return bathymetry::loadRaster(b.file, b.raster);
+            case BathymetrySpec::Kind::Raster: return bathymetry::loadRaster(b.file, rasterOptions(b, frame));
             case BathymetrySpec::Kind::Soundings:
                 if (!frame) throw InputError(b.loc, "bathymetry from soundings needs scene.origin (latitude, longitude)");
                 return bathymetry::fromSoundings(b.file, *frame, b.soundings);
@@ -381,6 +428,7 @@ void Assembly::buildTerrain() {
     const bathymetry::Extent grown{domain_.x0 - margin, domain_.y0 - margin, domain_.x1 + margin,
                                    domain_.y1 + margin};
     terrain_ = makeTerrain(bathy, grown, frame_ ? &*frame_ : nullptr);
+    if (bathy.kind == BathymetrySpec::Kind::Raster) checkRasterCoversDomain(bathy, *terrain_, domain_);
     const bathymetry::Extent tex = terrain_->extent();
     const bathymetry::Terrain* tp = terrain_.get();
     // Outside its extent a terrain is clamped to the nearest point of the extent (rasters do this

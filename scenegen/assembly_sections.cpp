@@ -50,6 +50,40 @@ const std::vector<std::string> kBarKeys = {"bar_crest_m", "bar_height_m", "bar_w
                                            "trough_depth_m", "trough_width_m", "crescent_amplitude_m",
                                            "crescent_wavelength_m"};
 
+// Where a bathymetry raster sits: its file, and `extent` (the grid placed by hand), or the file's
+// georeferencing less the local origin (origin_x_m/origin_y_m, or `origin: scene`).
+void parseRasterPlacement(const YamlNode& n, BathymetrySpec* b) {
+    b->file = n["file"].asExistingPath();
+    b->rasterPlacementKey = "file";
+    b->rasterPlacementLoc = n["file"].loc();
+    const bool byHand = n.has("origin_x_m") || n.has("origin_y_m");
+    if (auto e = n.optional("extent")) {
+        b->raster.extent = parseExtent(*e);
+        b->rasterPlacementKey = "extent";
+        b->rasterPlacementLoc = e->loc();
+        for (const char* k : {"origin", "origin_x_m", "origin_y_m"})
+            if (n.has(k))
+                n[k].fail(fmt::format("'extent' places the raster in the local frame itself, so '{}' (which shifts "
+                                      "the file's own georeferencing) would be ignored; remove one of them", k));
+    }
+    if (auto o = n.optional("origin")) {
+        o->asEnum({"scene"});
+        if (byHand)
+            o->fail("give either 'origin: scene' or origin_x_m/origin_y_m (the projected coordinates of the local "
+                    "origin), not both");
+        b->rasterOriginFromScene = true;
+        b->rasterOriginLoc = o->loc();
+        b->rasterPlacementKey = "origin";
+        b->rasterPlacementLoc = o->loc();
+    } else if (byHand) {
+        const char* k = n.has("origin_x_m") ? "origin_x_m" : "origin_y_m";
+        b->rasterPlacementKey = k;
+        b->rasterPlacementLoc = n[k].loc();
+    }
+    b->raster.originX = n.getDouble("origin_x_m", 0, -1e8, 1e8, "m");
+    b->raster.originY = n.getDouble("origin_y_m", 0, -1e8, 1e8, "m");
+}
+
 }  // namespace
 
 BathymetrySpec parseBathymetry(const YamlNode& n) {
@@ -66,7 +100,8 @@ BathymetrySpec parseBathymetry(const YamlNode& n) {
         keys.insert(keys.end(), kDeanKeys.begin(), kDeanKeys.end());
         keys.insert(keys.end(), kBarKeys.begin(), kBarKeys.end());
     } else if (type == "raster") {
-        keys.insert(keys.end(), {"file", "extent", "origin_x_m", "origin_y_m", "z_scale", "z_offset_m", "channel"});
+        keys.insert(keys.end(),
+                    {"file", "extent", "origin", "origin_x_m", "origin_y_m", "z_scale", "z_offset_m", "channel"});
     } else {
         keys.insert(keys.end(), {"file", "outside_hull", "merge_distance_m", "constraint_z_m"});
     }
@@ -99,10 +134,7 @@ BathymetrySpec parseBathymetry(const YamlNode& n) {
         }
     } else if (type == "raster") {
         b.kind = BathymetrySpec::Kind::Raster;
-        b.file = n["file"].asExistingPath();
-        if (auto e = n.optional("extent")) b.raster.extent = parseExtent(*e);
-        b.raster.originX = n.getDouble("origin_x_m", 0, -1e8, 1e8, "m");
-        b.raster.originY = n.getDouble("origin_y_m", 0, -1e8, 1e8, "m");
+        parseRasterPlacement(n, &b);
         b.raster.zScale = n.getDouble("z_scale", 1, -1e3, 1e3, "");
         if (b.raster.zScale == 0) n["z_scale"].fail("z_scale must not be 0");
         b.raster.zOffset = n.getDouble("z_offset_m", 0, -1e4, 1e4, "m");
@@ -181,7 +213,10 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         s.name = c["name"].asOutputName("texture class");  // it names textures/<name>.tif
         if (!names.insert(s.name).second) c["name"].fail(fmt::format("duplicate class name '{}'", s.name));
         s.reflectance = parseSpectrum(c["reflectance"], 0, 1, "(reflectance)");
-        if (auto tx = c.optional("texture")) s.texture = tx->asExistingPath();
+        if (auto tx = c.optional("texture")) {
+            s.texture = tx->asExistingPath();
+            s.textureLoc = tx->loc();
+        }
         s.mean = c.getDouble("mean", 1.0, 0, 100, "");
         s.stddev = c.getDouble("stddev", 0.0, 0, 100, "");
         if (s.stddev > 0 && !s.texture) c["stddev"].fail("a standard deviation needs a 'texture' image to shape");

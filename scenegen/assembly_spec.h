@@ -23,6 +23,12 @@ struct BathymetrySpec {
     bathymetry::BarTrough barTrough;
     std::filesystem::path file;            // raster or soundings CSV
     bathymetry::RasterOptions raster;
+    bool rasterOriginFromScene = false;    // raster `origin: scene`: originX/Y from the scene's UTM frame
+    SourceLoc rasterOriginLoc;             // where `origin` was given
+    // The key that places a raster (extent, origin, origin_x_m or file) and where it is, for the
+    // error of a raster that does not cover the domain.
+    std::string rasterPlacementKey;
+    SourceLoc rasterPlacementLoc;
     bathymetry::SoundingsOptions soundings;
     bool utmFrame = false;                 // geo frame for soundings/objects: UTM instead of local tangent plane
     double spacing = 1.0;                  // m, terrain grid spacing of the water/land meshes
@@ -52,6 +58,7 @@ struct TextureClassSpec {
     std::string name;                      // material name in the IR
     Spectrum reflectance = Spectrum::constant(0.0);
     std::optional<std::filesystem::path> texture;  // grey image; absent = uniform
+    SourceLoc textureLoc;                  // where `texture` was given
     double mean = 1.0;                     // target mean of the texture multiplier
     double stddev = 0.0;                   // target standard deviation of the multiplier
     std::string solver;                    // classic | generic | surface-pm, or "" (not given)

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -115,11 +116,12 @@ constexpr long long kMaxVertices = std::numeric_limits<uint32_t>::max();
 constexpr size_t kMaxCorners = 1000;  // corners of one polygon
 
 // ---------------------------------------------------------------------------------------- OBJ
-// Wavefront OBJ (geometry statements of the 3.0 specification). Only v and f build the mesh; the
-// other statements of the specification are accepted and ignored; anything else is an error.
+// Wavefront OBJ (geometry statements of the 3.0 specification). v and f build the mesh and usemtl
+// gives the faces after it their material slot; the other statements of the specification are
+// accepted and ignored; anything else is an error.
 
 bool objIgnored(std::string_view k) {
-    static const char* kIgnored[] = {"vt", "vn", "vp", "g", "o", "s", "usemtl", "mtllib", "l", "p", "cstype", "deg",
+    static const char* kIgnored[] = {"vt", "vn", "vp", "g", "o", "s", "mtllib", "l", "p", "cstype", "deg",
                                      "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
                                      "end", "con", "mg", "bevel", "c_interp", "d_interp", "lod", "usemap", "maplib",
                                      "shadow_obj", "trace_obj", "ctech", "stech", "call", "csh"};
@@ -128,11 +130,50 @@ bool objIgnored(std::string_view k) {
     return false;
 }
 
-TriMesh parseObj(std::string_view data, const std::string& file) {
+// OBJ face material slots: each distinct usemtl name takes the next slot when its first face comes
+// (slot 0 for faces before any usemtl), so slots follow the order in which the names first appear
+// on faces; a name no face follows takes none.
+class ObjSlots {
+public:
+    void use(const std::vector<Token>& t, const TextLines& in) {
+        if (t.size() < 2) in.fail(t[0].column, "usemtl needs a material name");
+        current_.clear();
+        for (size_t k = 1; k < t.size(); ++k) current_ += (k > 1 ? " " : "") + std::string(t[k].text);
+        line_ = in.line();
+        named_ = true;
+        slot_.reset();
+    }
+    // The slot of a face read now (assigned at the first face after a usemtl).
+    uint16_t slotOfFace(const TextLines& in) {
+        if (slot_) return *slot_;
+        const std::string key = named_ ? "n" + current_ : std::string("-");  // "-": before any usemtl
+        auto it = index_.find(key);
+        if (it == index_.end()) {
+            if (names_.size() > 65535) in.fail(1, "more than 65536 distinct usemtl names (material slots)");
+            it = index_.emplace(key, static_cast<uint16_t>(names_.size())).first;
+            names_.push_back({named_ ? current_ : std::string(), named_ ? line_ : 0});
+        }
+        slot_ = it->second;
+        return *slot_;
+    }
+    const std::vector<MaterialSlotName>& names() const { return names_; }
+
+private:
+    std::string current_;
+    int line_ = 0;
+    bool named_ = false;
+    std::optional<uint16_t> slot_;
+    std::map<std::string, uint16_t> index_;
+    std::vector<MaterialSlotName> names_;
+};
+
+TriMesh parseObj(std::string_view data, const std::string& file, std::vector<MaterialSlotName>* slotNames) {
     TriMesh m;
     TextLines in(data, file, true);
     std::vector<Token> t;
     std::vector<uint32_t> face;
+    std::vector<uint16_t> material;  // per triangle
+    ObjSlots slots;
     struct PendingIndex { int line, column; long long index; };
     std::vector<std::pair<size_t, PendingIndex>> absolute;  // triangle corner -> index to check at the end
     while (in.next(&t)) {
@@ -172,8 +213,11 @@ TriMesh parseObj(std::string_view data, const std::string& file) {
             }
             const size_t first = m.triangles.size();
             addPolygon(m, face);
+            material.resize(m.triangles.size(), slots.slotOfFace(in));
             // Absolute indices may name vertices defined later in the file; check them at the end.
             for (const auto& p : pending) absolute.push_back({first, p});
+        } else if (key == "usemtl") {
+            slots.use(t, in);
         } else if (!objIgnored(key)) {
             in.fail(t[0].column, fmt::format("'{}' is not an OBJ statement (expected v, f, vt, vn, g, o, usemtl, ...): "
                                              "not an OBJ file, or a damaged one",
@@ -185,6 +229,9 @@ TriMesh parseObj(std::string_view data, const std::string& file) {
             throw MeshReadError(SourceLoc{file, p.line, p.column},
                                 fmt::format("face refers to vertex {}, but the file defines only {} vertices", p.index,
                                             m.positions.size()));
+    // One slot in all: no per-face materials (every face is slot 0), as for a file without usemtl.
+    if (slots.names().size() > 1) m.faceMaterial = std::move(material);
+    if (slotNames) *slotNames = slots.names();
     return m;
 }
 
@@ -368,10 +415,12 @@ bool isSupportedMeshExtension(const std::filesystem::path& path) {
     return e == ".obj" || e == ".ply" || e == ".off" || e == ".stl";
 }
 
-TriMesh parseMeshData(std::string_view data, MeshFormat format, const std::string& file) {
+TriMesh parseMeshData(std::string_view data, MeshFormat format, const std::string& file,
+                      std::vector<MaterialSlotName>* slotNames) {
+    if (slotNames) slotNames->clear();
     if (data.empty()) throw MeshReadError(SourceLoc{file}, "file is empty (0 bytes)");
     switch (format) {
-        case MeshFormat::Obj: return parseObj(data, file);
+        case MeshFormat::Obj: return parseObj(data, file, slotNames);
         case MeshFormat::Off: return parseOff(data, file);
         case MeshFormat::Stl: return parseStl(data, file);
         case MeshFormat::Ply:
@@ -388,7 +437,8 @@ TriMesh parseMeshData(std::string_view data, MeshFormat format, const std::strin
     throw InternalError("unknown mesh format");
 }
 
-TriMesh readMeshFile(const std::filesystem::path& path) {
+TriMesh readMeshFile(const std::filesystem::path& path, std::vector<MaterialSlotName>* slotNames) {
+    if (slotNames) slotNames->clear();
     const SourceLoc where{path.string()};
     std::string data;
     try {
@@ -405,7 +455,7 @@ TriMesh readMeshFile(const std::filesystem::path& path) {
     const std::string e = lowerExt(path);
     const MeshFormat f = e == ".obj" ? MeshFormat::Obj : e == ".ply" ? MeshFormat::Ply : e == ".off" ? MeshFormat::Off
                                                                                                    : MeshFormat::Stl;
-    return parseMeshData(data, f, path.string());
+    return parseMeshData(data, f, path.string(), slotNames);
 }
 
 void writeMeshFile(const std::filesystem::path& path, const TriMesh& mesh) {

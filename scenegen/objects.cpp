@@ -32,20 +32,57 @@ TriMesh placeMesh(const TriMesh& local, const Pose& pose, double waterLevel) {
     return m;
 }
 
+namespace {
+
+// "slot 0 'hull' (line 4) -> fiberglass, slot 1 'deck' (line 9) -> teak, slot 2 'rail' (line 20)"
+std::string slotList(const std::vector<MaterialSlotName>& names, const std::vector<std::string>& materials) {
+    std::string out;
+    for (size_t k = 0; k < names.size() && k < 8; ++k) {
+        out += fmt::format("{}slot {} {}", k ? ", " : "", k,
+                           names[k].line ? fmt::format("'{}' (line {})", names[k].name, names[k].line)
+                                         : std::string("(the faces before any usemtl)"));
+        if (k < materials.size()) out += " -> " + materials[k];
+    }
+    if (names.size() > 8) out += fmt::format(", ... ({} slots)", names.size());
+    return out;
+}
+
+}  // namespace
+
+void checkMaterialSlots(const ObjectSpec& spec, const TriMesh& mesh, const std::vector<MaterialSlotName>& slotNames) {
+    // Material slots used by the faces must all be named.
+    uint16_t maxSlot = 0;
+    size_t firstFace = 0;
+    for (size_t f = 0; f < mesh.triangles.size(); ++f)
+        if (mesh.materialOf(f) > maxSlot) maxSlot = mesh.materialOf(f), firstFace = f;
+    if (spec.materials.size() > maxSlot) return;
+    const std::string who = fmt::format("object '{}'", spec.name);
+    if (spec.materials.size() < slotNames.size()) {
+        // An OBJ: name the usemtl line that starts the first slot without a material.
+        const MaterialSlotName& first = slotNames[spec.materials.size()];
+        throw InputError(spec.loc, fmt::format("{}: {}:{}: usemtl '{}' starts face material slot {}, but 'materials' "
+                                               "lists {} ({}); list one material per distinct usemtl name, in the "
+                                               "order the names first appear on faces",
+                                               who, spec.mesh.string(), first.line, first.name,
+                                               spec.materials.size(), spec.materials.size(),
+                                               slotList(slotNames, spec.materials)));
+    }
+    throw InputError(spec.loc, fmt::format("{}: mesh {} uses material slots 0..{}, but 'materials' names only {} "
+                                           "(face {} is the first of slot {})",
+                                           who, spec.mesh.filename().string(), maxSlot, spec.materials.size(),
+                                           firstFace, maxSlot));
+}
+
 PlacedObject loadObject(const ObjectSpec& spec, const bathymetry::GeoFrame* frame, double waterLevel) {
     const std::string who = fmt::format("object '{}'", spec.name);
     TriMesh local;
+    std::vector<MaterialSlotName> slotNames;
     try {
-        local = readMeshFile(spec.mesh);
+        local = readMeshFile(spec.mesh, &slotNames);
     } catch (const MeshReadError& e) {
         throw InputError(spec.loc, fmt::format("{}: cannot read mesh {}: {}", who, spec.mesh.string(), e.what()));
     }
-    // Material slots used by the faces must all be named.
-    uint16_t maxSlot = 0;
-    for (size_t f = 0; f < local.triangles.size(); ++f) maxSlot = std::max(maxSlot, local.materialOf(f));
-    if (spec.materials.size() <= maxSlot)
-        throw InputError(spec.loc, fmt::format("{}: mesh {} uses material slots 0..{}, but 'materials' names only {}",
-                                               who, spec.mesh.filename().string(), maxSlot, spec.materials.size()));
+    checkMaterialSlots(spec, local, slotNames);
 
     PlacedObject out;
     Pose& pose = out.pose;

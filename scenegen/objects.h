@@ -14,6 +14,7 @@
 
 #include "bathymetry/geo_frame.h"
 #include "scenegen/assembly_spec.h"
+#include "scenegen/mesh_io.h"
 #include "scenegen/mesh_validity.h"
 #include "scenegen/water_volume.h"
 
@@ -40,6 +41,10 @@ struct PlacedObject {
 // Loads, validates (InputError listing the reasons if the mesh is not a valid closed volume,
 // naming the object and its scene-file location) and places an object. `frame` converts
 // latitude/longitude positions (required if the object uses them).
+// The face material slots of an object's mesh against its `materials`: every slot a face uses
+// must have a material (an OBJ's error names the usemtl line of the first slot without one).
+void checkMaterialSlots(const ObjectSpec& spec, const TriMesh& mesh, const std::vector<MaterialSlotName>& slotNames);
+
 PlacedObject loadObject(const ObjectSpec& spec, const bathymetry::GeoFrame* frame, double waterLevel = 0.0);
 
 }  // namespace littoral::scenegen

@@ -38,7 +38,18 @@ std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& 
     const int use = nc >= 3 ? 3 : 1;
     for (size_t i = 0; i < grey.size(); ++i) {
         float s = 0;
-        for (int c = 0; c < use; ++c) s += rgb[i * nc + c];
+        for (int c = 0; c < use; ++c) {
+            const float v = rgb[i * nc + c];
+            // A NaN or infinity would spread through the class's mean and standard deviation into
+            // every pixel of the remapped texture (and from there into the radiance).
+            if (!std::isfinite(v))
+                throw InputError(where, fmt::format("texture image {}: pixel (column {}, row {}; counted from 0, row 0 "
+                                                    "at the top), channel {} is {}; texture values must be finite "
+                                                    "numbers",
+                                                    path.string(), i % size_t(spec.width), i / size_t(spec.width), c,
+                                                    v));
+            s += v;
+        }
         grey[i] = s / use;
     }
     return grey;
@@ -254,7 +265,7 @@ TextureClasses buildTextureClasses(const TextureClassesSpec& spec, const bathyme
             continue;
         }
         int tw = 0, th = 0;
-        const std::vector<float> tex = readGrey(*c.texture, c.loc, &tw, &th);
+        const std::vector<float> tex = readGrey(*c.texture, c.textureLoc.file.empty() ? c.loc : c.textureLoc, &tw, &th);
         // Tile the texture over the map grid, one texture pixel per map pixel.
         std::vector<float> tiled(n);
         for (int j = 0; j < tc.map.height; ++j)

@@ -355,7 +355,7 @@ TEST(GeoTiff, RejectsNodataGeographicAndCorruptFiles) {
     s.tiepoint = {0, 0, 0, 0, 2, 0};
     s.gdalNodata = "-9999";
     std::string m = inputErrorOf([&] { lb::loadRaster(writeTiff("nodata.tif", s)); });
-    EXPECT_NE(m.find("row 2, column 2"), std::string::npos) << m;
+    EXPECT_NE(m.find("pixel (column 2, row 2; counted from 1, row 1 = north), channel 0 is NODATA"), std::string::npos) << m;
     EXPECT_NE(m.find("NODATA"), std::string::npos) << m;
 
     s.gdalNodata.clear();
@@ -406,4 +406,74 @@ TEST(GeoTiff, TruncatedFilesAreInputErrors) {
     // At least every cut inside the directory (13 entries: the last 2 + 13 * 12 + 4 bytes) must be
     // rejected.
     EXPECT_GE(rejected, 2 + 13 * 12 + 4);
+}
+
+// A NaN sample of a float GeoTIFF is refused at its pixel and channel; an elevation beyond any on
+// Earth (an undeclared NODATA such as -3.4e38, or an overflow by z_scale) likewise.
+TEST(GeoTiff, NonFiniteAndImpossibleSamplesNameTheirPixel) {
+    TiffSpec s;
+    s.width = 3;
+    s.height = 2;
+    s.values = {1, 2, 3, 4, std::nan(""), 6};
+    s.pixelScale = {1, 1, 0};
+    s.tiepoint = {0, 0, 0, 0, 2, 0};
+    std::string m = inputErrorOf([&] { lb::loadRaster(writeTiff("nan.tif", s)); });
+    EXPECT_NE(m.find("nan.tif"), std::string::npos) << m;
+    EXPECT_NE(m.find("pixel (column 2, row 2; counted from 1, row 1 = north), channel 0 is not finite (nan)"),
+              std::string::npos)
+        << m;
+    s.values[4] = -3.4e38;
+    m = inputErrorOf([&] { lb::loadRaster(writeTiff("huge.tif", s)); });
+    EXPECT_NE(m.find("sample (column 2, row 2; counted from 1, row 1 = north) holds -3.4e+38"), std::string::npos) << m;
+    EXPECT_NE(m.find("allowed -12000 to 9000 m"), std::string::npos) << m;
+    s.values[4] = 5;
+    lb::RasterOptions opt;
+    opt.zScale = 2000;  // 5 m becomes 10 km
+    m = inputErrorOf([&] { lb::loadRaster(writeTiff("scaled.tif", s), opt); });
+    EXPECT_NE(m.find("sample (column 2, row 2; counted from 1, row 1 = north) holds 5, which is an elevation of "
+                     "10000 m after z_scale 2000"),
+              std::string::npos)
+        << m;
+}
+
+// A raster's footprint is its cells: the rectangle of sample centres grown by half a cell.
+TEST(AsciiGrid, FootprintIsTheCellsAroundTheSampleCentres) {
+    const auto t = lb::parseAsciiGridTerrain(
+        "ncols 3\nnrows 2\nxllcorner 10\nyllcorner 20\ncellsize 2\n1 2 3\n4 5 6\n", "fp.asc");
+    const lb::Extent c = t->extent(), f = t->footprint();
+    EXPECT_DOUBLE_EQ(c.x0, 11);
+    EXPECT_DOUBLE_EQ(c.x1, 15);
+    EXPECT_DOUBLE_EQ(f.x0, 10);
+    EXPECT_DOUBLE_EQ(f.x1, 16);
+    EXPECT_DOUBLE_EQ(f.y0, 20);
+    EXPECT_DOUBLE_EQ(f.y1, 24);
+}
+
+// origin: scene (utmZone set): a GeoTIFF that declares another UTM zone, or a system that is not
+// UTM, is refused; the same zone, and NAD83 in that zone, are read.
+TEST(GeoTiff, SceneUtmZoneMustMatchTheDeclaredSystem) {
+    TiffSpec s;
+    s.width = 3;
+    s.height = 2;
+    s.values = {1, 2, 3, 4, 5, 6};
+    s.pixelScale = {1, 1, 0};
+    s.tiepoint = {0, 0, 0, 412000, 4004002, 0};
+    lb::RasterOptions opt;
+    opt.originX = 412000;
+    opt.originY = 4004000;
+    opt.utmZone = 18;
+    const auto withCrs = [&](int epsg) {
+        s.geoKeys = {1, 1, 0, 2, 1024, 0, 1, 1, 3072, 0, 1, uint16_t(epsg)};
+        return writeTiff("crs_" + std::to_string(epsg) + ".tif", s);
+    };
+    EXPECT_NO_THROW(lb::loadRaster(withCrs(32618), opt));
+    EXPECT_NO_THROW(lb::loadRaster(withCrs(26918), opt));
+    std::string m = inputErrorOf([&] { lb::loadRaster(withCrs(32617), opt); });
+    EXPECT_NE(m.find("the GeoTIFF is in WGS 84 / UTM zone 17N (EPSG:32617), but the scene's frame is UTM zone 18N"),
+              std::string::npos)
+        << m;
+    m = inputErrorOf([&] { lb::loadRaster(withCrs(2264), opt); });  // NAD83 / North Carolina (ftUS)
+    EXPECT_NE(m.find("declares the projected system EPSG:2264, which is not UTM"), std::string::npos) << m;
+    opt.utmZone = 0;  // origin given by hand: the system is the user's business
+    EXPECT_NO_THROW(lb::loadRaster(withCrs(2264), opt));
 }

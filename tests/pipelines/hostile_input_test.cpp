@@ -13,14 +13,20 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "bathymetry/geo_frame.h"
 #include "core/atomic_file.h"
 #include "core/scene_ir.h"
 #include "scenegen/mesh_io.h"
@@ -836,4 +842,213 @@ TEST_F(Hostile, WaterOpticsInterfaceIsRefused) {
             << cmd << ": " << r.output;
     }
     expectNothingWritten(out_, "run");
+}
+
+// ---- Issue 20: rasters (NaN/Inf pixels, extents that miss the domain) and OBJ usemtl ----------
+
+namespace {
+
+// A little-endian grey PFM (rows stored bottom first, so file row 0 is image row h - 1).
+void writePfm(const fs::path& p, int w, int h, const std::vector<float>& fileOrder) {
+    std::string bytes = "Pf\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
+    bytes.append(reinterpret_cast<const char*>(fileOrder.data()), fileOrder.size() * sizeof(float));
+    std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+// kScene with the seabed from texture_classes: one class (index 0) with texture tex.pfm.
+std::string texturedScene() {
+    return replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+                    "bathymetry: {type: planar_slope, z0_m: -2}") +
+           "texture_classes:\n  map: map.png\n  classes:\n    - {index: 0, name: sand, reflectance: 0.3, texture: "
+           "tex.pfm, stddev: 0.1}\n";
+}
+
+// An ESRI ASCII grid of n x n samples at -2 m, lower-left corner (x0, y0), 1 m cells.
+std::string asciiGrid(int n, double x0, double y0, const std::string& sample = "-2") {
+    std::string g = fmt::format("ncols {}\nnrows {}\nxllcorner {:.3f}\nyllcorner {:.3f}\ncellsize 1\n", n, n, x0, y0);
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) g += (i ? " " : "") + (i == 3 && j == 1 ? sample : std::string("-2"));
+        g += "\n";
+    }
+    return g;
+}
+
+// Writes `text` as dir/scene.yaml (beside the inputs it names) and checks that check-scene, build
+// and run all refuse it: exit 1, the error at scene.yaml`where`, `message` in it, no output folder.
+void expectRefusedByAll(const fs::path& dir, const std::string& text, const std::string& where,
+                        const std::string& message) {
+    const fs::path scene = writeTextFile(dir, "scene.yaml", text);
+    for (const std::string cmd : {"check-scene", "build", "run"}) {
+        const fs::path out = dir / ("out-" + cmd);
+        const CommandResult r = runLittoral("-q " + cmd + " " + q(scene) + (cmd == "check-scene" ? "" : " --out " + q(out)));
+        EXPECT_EQ(r.status, 1) << cmd << ": " << r.output;
+        EXPECT_TRUE(contains(r.output, "scene.yaml" + where + ": error: ")) << cmd << ": " << r.output;
+        EXPECT_TRUE(contains(r.output, message)) << cmd << ": " << r.output;
+        EXPECT_FALSE(fs::exists(out)) << cmd << ": output left behind";
+    }
+}
+
+}  // namespace
+
+TEST_F(Hostile, NonFiniteTexturePixelsAreRefusedAtTheirPixel) {
+    // A NaN (or an infinity) in a class texture spread through the class's mean into every pixel
+    // of the remapped texture: exit 0 with nan in probes.csv. Now refused at the texture key.
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + q(dir_ / "map.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+        std::vector<float> v(16);
+        for (int i = 0; i < 16; ++i) v[size_t(i)] = 0.5f + 0.1f * float(i);
+        v[2] = bad;  // file row 0 (the bottom), column 2: image row 3
+        writePfm(dir_ / "tex.pfm", 4, 4, v);
+        expectRefusedByAll(dir_, texturedScene(), ":15:57",
+            std::string("texture image ") + (dir_ / "tex.pfm").string() +
+                ": pixel (column 2, row 3; counted from 0, row 0 at the top), channel 0 is " +
+                (std::isnan(bad) ? "nan" : "inf") + "; texture values must be finite numbers");
+    }
+}
+
+TEST_F(Hostile, IrTexturesMustBeFiniteAndNonNegative) {
+    // A hand-edited IR texture multiplies a reflectance: NaN or a negative value is refused by
+    // `render`, naming the file and the pixel, and nothing is written.
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + q(dir_ / "map.png") +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    std::vector<float> v(16);
+    for (int i = 0; i < 16; ++i) v[size_t(i)] = 0.5f + 0.1f * float(i);
+    writePfm(dir_ / "tex.pfm", 4, 4, v);
+    const fs::path ir = dir_ / "ir";
+    writeTextFile(dir_, "scene.yaml", texturedScene());
+    CommandResult r = runLittoral("-q build " + q(dir_ / "scene.yaml") + " --out " + q(ir));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const fs::path tif = ir / "textures" / "sand.tif";
+    for (const char* colour : {"-0.25", "nan"}) {
+        fs::remove(tif);
+        ASSERT_EQ(std::system(("oiiotool --pattern constant:color=" + std::string(colour) + " 4x4 1 -d float -o " +
+                               q(tif) + " > /dev/null 2>&1").c_str()),
+                  0);
+        r = runLittoral("-q render " + q(ir) + " --out " + q(out_));
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_TRUE(contains(r.output, tif.string() + ": error: texture pixel (column 0, row 0; counted from 0, row 0 "
+                                                      "= north), channel 0 is " +
+                                           (std::string(colour) == "nan" ? "nan" : "-0.25") +
+                                           "; a texture multiplies a reflectance, so its values must be finite and "
+                                           ">= 0"))
+            << r.output;
+        EXPECT_FALSE(fs::exists(out_)) << "output left behind";
+    }
+}
+
+TEST_F(Hostile, BathymetryRastersMustCoverTheDomain) {
+    // A UTM raster 4000 km from the local origin (origin_x_m: 0) was accepted: the seabed became
+    // the raster's edge value. Refused at the key that places the raster, naming both extents.
+    writeTextFile(dir_, "utm.asc", asciiGrid(12, 410000, 4000000));
+    const std::string bathy = "bathymetry: {type: planar_slope, z0_m: -2, material: floor}";
+    const auto scene = [&](const std::string& keys) {
+        return replaced(kScene, bathy, "bathymetry: {type: raster, file: utm.asc, " + keys + "material: floor}");
+    };
+    const std::string both = "the raster utm.asc covers x [410000, 410012], y [4000000, 4000012] m in the local "
+                             "frame (its cells), and the scene domain is x [-5, 5], y [-5, 5] m: the raster lies 4021 "
+                             "km from the domain, entirely outside it; a georeferenced raster needs the projected "
+                             "coordinates of the local origin: origin: scene";
+    expectRefusedByAll(dir_, scene("origin_x_m: 0, "), ":5:55",
+                                                  "bathymetry.origin_x_m: " + both);
+    expectRefusedByAll(dir_, scene(""), ":5:34",
+                                                  "bathymetry.file: " + both);
+    // An extent that covers only part of the domain: the rest would repeat the edge values.
+    expectRefusedByAll(dir_, scene("extent: {x: [-3, 3], y: [-5, 5]}, "), ":5:51",
+        "bathymetry.extent: the raster utm.asc covers x [-3.272727273, 3.272727273], y [-5.454545455, 5.454545455] m "
+        "in the local frame (its cells), and the scene domain is x [-5, 5], y [-5, 5] m, which it covers only in part");
+    // The right origin: the raster's cells cover the domain (to the half cell beyond the centres).
+    CommandResult r = runScene("check-scene", scene("origin_x_m: 410006, origin_y_m: 4000006, "), false);
+    EXPECT_EQ(r.status, 0) << r.output;
+    // An extent with an origin: the origin would be ignored.
+    r = runScene("check-scene", scene("extent: {x: [-6, 6], y: [-6, 6]}, origin_x_m: 1, "), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:5:") &&
+                contains(r.output, "'extent' places the raster in the local frame itself, so 'origin_x_m'"))
+        << r.output;
+}
+
+TEST_F(Hostile, BathymetryRasterSamplesMustBeFiniteElevations) {
+    // NaN in an ASCII grid: located at its line and column. An elevation beyond any on Earth (a
+    // NODATA value the file does not declare, 3.4e38): named by its sample.
+    const std::string bathy = "bathymetry: {type: planar_slope, z0_m: -2, material: floor}";
+    const std::string scene = replaced(kScene, bathy, "bathymetry: {type: raster, file: g.asc, material: floor}");
+    writeTextFile(dir_, "g.asc", asciiGrid(12, -6, -6, "nan"));
+    CommandResult r = runScene("check-scene", scene, false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "g.asc:7:10: error: 'nan' (row 2, column 4) is not a finite number")) << r.output;
+    writeTextFile(dir_, "g.asc", asciiGrid(12, -6, -6, "3.4e38"));
+    for (const char* cmd : {"check-scene", "run"}) {
+        r = runScene(cmd, scene, std::string(cmd) == "run");
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_TRUE(contains(r.output, "g.asc: error: sample (column 4, row 2; counted from 1, row 1 = north) holds "
+                                       "3.4e+38, which is an elevation of 3.4e+38 m after z_scale 1 and z_offset_m 0; "
+                                       "allowed -12000 to 9000 m"))
+            << r.output;
+        expectNothingWritten(out_, cmd);
+    }
+}
+
+TEST_F(Hostile, RasterOriginCanComeFromTheSceneOrigin) {
+    // origin: scene takes a georeferenced raster's offset from scene.origin through the scene's
+    // UTM frame, instead of a hand-written origin_x_m / origin_y_m.
+    const double lat = 36.18, lon = -75.75;
+    const auto utm = littoral::bathymetry::toUtm(lat, lon);
+    writeTextFile(dir_, "utm.asc", asciiGrid(12, utm.easting - 6, utm.northing - 6));
+    const std::string bathy = "bathymetry: {type: planar_slope, z0_m: -2, material: floor}";
+    const auto scene = [&](const std::string& keys) {
+        return replaced(replaced(kScene, bathy, "bathymetry: {type: raster, file: utm.asc, " + keys + "material: floor}"),
+                        "scene: {name: hostile,", "scene: {name: hostile, origin: {latitude: 36.18, longitude: -75.75},");
+    };
+    CommandResult r = runScene("check-scene", scene("origin: scene, frame: utm, "), false);
+    EXPECT_EQ(r.status, 0) << r.output;
+    r = runScene("check-scene", scene("origin: scene, "), false);  // the local tangent-plane frame
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.yaml:5:") && contains(r.output, "bathymetry.origin: 'scene' places a "
+                                                                          "projected (UTM) raster in the scene's UTM "
+                                                                          "frame, but the frame is the local tangent "
+                                                                          "plane; set bathymetry.frame: utm"))
+        << r.output;
+    r = runScene("check-scene", scene("origin: scene, origin_x_m: 1, frame: utm, "), false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "give either 'origin: scene' or origin_x_m/origin_y_m")) << r.output;
+    r = runScene("check-scene", replaced(scene("origin: scene, frame: utm, "), " origin: {latitude: 36.18, longitude: -75.75},", ""),
+                 false);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "bathymetry.origin: 'scene' takes the raster's offset from scene.origin")) << r.output;
+}
+
+TEST_F(Hostile, ObjUsemtlNamesMaterialSlots) {
+    // usemtl was ignored, so a second material was silently dropped. Each distinct name now takes
+    // the next face material slot; too few materials is refused naming the OBJ line.
+    const std::string cube = "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+                             "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+                             "usemtl hull\nf 1 4 3 2\nf 1 2 6 5\nf 3 4 8 7\nf 2 3 7 6\nf 4 1 5 8\n"
+                             "usemtl deck\nf 5 6 7 8\n";
+    writeTextFile(dir_, "cube.obj", cube);
+    std::string scene = kScene;
+    scene += "objects:\n  - {name: box, mesh: cube.obj, materials: [floor], position_m: [0, 0], draft_m: 0.5}\n";
+    expectRefusedByAll(dir_, scene, ":13:5",
+        "object 'box': " + (dir_ / "cube.obj").string() + ":15: usemtl 'deck' starts face material slot 1, but "
+        "'materials' lists 1 (slot 0 'hull' (line 9) -> floor, slot 1 'deck' (line 15)); list one material per "
+        "distinct usemtl name, in the order the names first appear on faces");
+    scene = replaced(scene, "materials: [floor]", "materials: [floor, paint]");
+    scene = replaced(scene, "materials: [{name: floor, reflectance: 0.2}]",
+                     "materials: [{name: floor, reflectance: 0.2}, {name: paint, reflectance: 0.6}]");
+    CommandResult r = runScene("build", scene);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const littoral::TriMesh m = littoral::scenegen::readMeshFile(out_ / "meshes" / "object_box.ply");
+    const auto ir = nlohmann::json::parse(littoral::readTextFile(out_ / "scene.json"));
+    std::vector<std::string> slots;
+    for (const auto& mesh : ir["meshes"])
+        if (mesh["name"] == "box") slots = mesh["materials"].get<std::vector<std::string>>();
+    EXPECT_EQ(slots, (std::vector<std::string>{"floor", "paint"}));
+    // The top (+z) faces are deck -> paint; every other face is hull -> floor.
+    ASSERT_EQ(m.faceMaterial.size(), m.triangles.size());
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+        const littoral::Vec3 n = m.faceNormalArea(f);
+        EXPECT_EQ(m.faceMaterial[f], n.z > 0.1 ? 1 : 0) << "face " << f;
+    }
 }

@@ -176,3 +176,33 @@ TEST(Placement, LatLonThroughTheGeoFrameAndValidation) {
         EXPECT_NE(w.find("not closed: 3 boundary edges"), std::string::npos) << w;
     }
 }
+
+// OBJ usemtl: each distinct name takes the next slot at its first face (slot 0 for faces before
+// any usemtl); a name met again reuses its slot; a name no face follows takes none.
+TEST(MeshIO, ObjUsemtlGivesFaceMaterialSlotsInOrderOfFirstUse) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                            "f 1 3 2\n"           // before any usemtl: slot 0
+                            "usemtl unused\n"     // no face follows: no slot
+                            "usemtl red paint\n"  // names may hold spaces
+                            "f 1 2 4\n"           // slot 1
+                            "usemtl blue\n"
+                            "f 1 4 3\n"           // slot 2
+                            "usemtl red paint\n"
+                            "f 2 3 4\n";          // slot 1 again
+    std::vector<MaterialSlotName> names;
+    const TriMesh m = parseMeshData(obj, MeshFormat::Obj, "slots.obj", &names);
+    EXPECT_EQ(m.faceMaterial, (std::vector<uint16_t>{0, 1, 2, 1}));
+    ASSERT_EQ(names.size(), 3u);
+    EXPECT_EQ(names[0].line, 0);
+    EXPECT_EQ(names[1].name, "red paint");
+    EXPECT_EQ(names[1].line, 7);
+    EXPECT_EQ(names[2].name, "blue");
+    EXPECT_EQ(names[2].line, 9);
+    // One material for every face: no per-face materials, as without usemtl.
+    const TriMesh one = parseMeshData("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl hull\nf 1 2 3\n", MeshFormat::Obj, "one.obj");
+    EXPECT_TRUE(one.faceMaterial.empty());
+    // usemtl without a name is located.
+    const std::string e = testing_support::inputErrorOf(
+        [] { parseMeshData("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n", MeshFormat::Obj, "bare.obj"); });
+    EXPECT_NE(e.find("bare.obj:4:1: usemtl needs a material name"), std::string::npos) << e;
+}
