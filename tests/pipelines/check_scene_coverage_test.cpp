@@ -22,20 +22,9 @@ using littoral::testing_support::replacedOnce;
 
 namespace {
 
-// A small valid scene: flat water over a flat seabed at -2 m, one nadir frame sensor, one probe.
-// Line 8 is the sensor, line 10 the probe, line 6 the material.
-const char* kBase = R"(scene: {name: coverage, domain: {x: [-5, 5], y: [-5, 5]}}
-sun: {zenith_deg: 30, irradiance: 1000}
-sky: {radiance: 0}
-water: {optics: {preset: coastal}}
-bathymetry: {type: planar_slope, z0_m: -2, material: floor}
-materials: [{name: floor, reflectance: 0.2}]
-sensors:
-  - {name: nadir, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, gsd_m: 0.5, width: 16, height: 12}
-probes:
-  - {name: p, position: [0, 0, -1], quantities: [Ed]}
-render: {probe_samples: 64, hemisphere_samples: 4}
-)";
+// The small valid scene (flat water over a flat seabed at -2 m, one nadir frame sensor on line 8,
+// one probe on line 10, the material on line 6).
+const char* const kBase = littoral::testing_support::kSmallScene;
 
 struct Case {
     std::string name;

@@ -66,20 +66,8 @@ void expectNothingWritten(const fs::path& out, const std::string& what) {
 
 bool contains(const std::string& haystack, const std::string& needle) { return haystack.find(needle) != std::string::npos; }
 
-// A small valid scene: flat water over a planar seabed, one nadir frame sensor, one probe.
-// Line numbers below refer to this text: line 7 is the first sensor.
-const char* kScene = R"(scene: {name: hostile, domain: {x: [-5, 5], y: [-5, 5]}}
-sun: {zenith_deg: 30, irradiance: 1000}
-sky: {radiance: 0}
-water: {optics: {preset: coastal}}
-bathymetry: {type: planar_slope, z0_m: -2, material: floor}
-materials: [{name: floor, reflectance: 0.2}]
-sensors:
-  - {name: nadir, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, gsd_m: 0.5, width: 16, height: 12}
-probes:
-  - {name: p, position: [0, 0, -1], quantities: [Ed]}
-render: {probe_samples: 64, hemisphere_samples: 4}
-)";
+// The small valid scene of tests/support/test_support.h (line 8 is the sensor, 10 the probe).
+const char* const kScene = littoral::testing_support::kSmallScene;
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
     const size_t at = text.find(from);
@@ -1051,4 +1039,24 @@ TEST_F(Hostile, ObjUsemtlNamesMaterialSlots) {
         const littoral::Vec3 n = m.faceNormalArea(f);
         EXPECT_EQ(m.faceMaterial[f], n.z > 0.1 ? 1 : 0) << "face " << f;
     }
+}
+
+TEST_F(Hostile, PathEstimatorWarnsWhenPathsAreCutAtMaxBounces) {
+    // Dense water that scatters and does not absorb: a path needs of order (b z)^2 = 4e6 events to
+    // leave a 2 m column at b = 1000 m^-1, so with max_bounces 20 nearly every path is cut and its
+    // radiance lost. It used to return 0 without a word; the run now says what fraction was cut.
+    std::string text = replaced(kScene, "water: {optics: {preset: coastal}}",
+                                "water: {optics: {absorption_per_m: 0, scattering_per_m: 1000}}");
+    text = replaced(text, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                    "render: {estimator: path, probe_samples: 64, max_bounces: 20}");
+    const CommandResult r = runScene("run", text);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "reached render.max_bounces = 20 with weight left and were cut")) << r.output;
+    // The same scene with clear water: no path is cut, no warning.
+    std::string clear = replaced(kScene, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                                 "render: {estimator: path, probe_samples: 64}");
+    fs::remove_all(out_);
+    const CommandResult c = runScene("run", clear);
+    EXPECT_EQ(c.status, 0) << c.output;
+    EXPECT_FALSE(contains(c.output, "were cut")) << c.output;
 }

@@ -68,6 +68,22 @@ inline std::string replacedOnce(std::string text, const std::string& from, const
     return text;
 }
 
+// A small valid scene: flat water over a planar seabed, one nadir frame sensor, one probe.
+// Used by the hostile-input and check-scene coverage tests: line 6 is the material, line 8 the
+// sensor, line 10 the probe.
+inline constexpr const char* kSmallScene = R"(scene: {name: hostile, domain: {x: [-5, 5], y: [-5, 5]}}
+sun: {zenith_deg: 30, irradiance: 1000}
+sky: {radiance: 0}
+water: {optics: {preset: coastal}}
+bathymetry: {type: planar_slope, z0_m: -2, material: floor}
+materials: [{name: floor, reflectance: 0.2}]
+sensors:
+  - {name: nadir, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, gsd_m: 0.5, width: 16, height: 12}
+probes:
+  - {name: p, position: [0, 0, -1], quantities: [Ed]}
+render: {probe_samples: 64, hemisphere_samples: 4}
+)";
+
 // Writes scene file `text` as <group>/<name>/<name>.yaml and checks that `check-scene`, `build` and
 // `run` all refuse it: exit 1, one error located at `where` ("file:line:column" suffix, e.g.
 // ":12:37") whose text contains `message`, and no output folder left behind.
