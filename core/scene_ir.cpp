@@ -572,7 +572,8 @@ Instance readInstance(const JReader& in, const SceneIR& s) {
 
 // One sensor; sizes are range-checked before narrowing.
 Sensor readSensor(const JReader& c, const SceneIR& s) {
-    // Any sensor type's parameters are allowed keys; those of this sensor's type are read.
+    // Any sensor type's parameters are known keys; those of this sensor's type are read, the others
+    // refused.
     std::vector<std::string> keys = {"name", "type", "position_m", "forward", "up", "width", "height"};
     for (const std::string& k : sensorTypeKinds().allParamNames()) keys.push_back(k);
     keys.insert(keys.end(), {"samples_per_pixel", "medium"});
@@ -591,6 +592,11 @@ Sensor readSensor(const JReader& c, const SceneIR& s) {
     se.width = static_cast<int>(c["width"].integer());
     se.height = static_cast<int>(c["height"].integer());
     const SensorKind& kind = sensorKind(se.type);
+    // A parameter of another type would do nothing here: refused, naming the type that uses it.
+    for (const std::string& k : sensorTypeKinds().allParamNames())
+        if (c.has(k) && !kind.info.param(k))
+            c[k].fail(fmt::format("a {} sensor does not use this key; it belongs to the {} sensor type", kind.info.name,
+                                  sensorTypeKinds().kindsWithParam(k)));
     for (size_t i = 0; i < kind.info.params.size(); ++i) se.*kind.fields[i].field = c[kind.info.params[i].name].num();
     se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
     se.medium = c["medium"].str();

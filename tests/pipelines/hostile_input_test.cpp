@@ -1060,3 +1060,21 @@ TEST_F(Hostile, PathEstimatorWarnsWhenPathsAreCutAtMaxBounces) {
     EXPECT_EQ(c.status, 0) << c.output;
     EXPECT_FALSE(contains(c.output, "were cut")) << c.output;
 }
+
+TEST_F(Hostile, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheEntry) {
+    // A reflectance of 1.5 passes the IR's syntax, and the renderer refuses it; the message names
+    // scene.json and the entry's JSON path, not only "material 'floor'".
+    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
+    std::string json;
+    {
+        std::ifstream f(dir_ / "ir" / "scene.json");
+        json.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"reflectance\": 0.2", "\"reflectance\": 1.5");
+    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_TRUE(contains(r.output, "scene.json: error: materials[") &&
+                contains(r.output, "]: material 'floor': reflectance 1.5 outside [0, 1]"))
+        << r.output;
+    expectNothingWritten(out_, "render");
+}

@@ -799,6 +799,23 @@ TEST(KindDescriptors, UnknownSensorTypeGetsADidYouMean) {
     }
 }
 
+TEST(KindDescriptors, IrSensorKeysOfAnotherTypeAreRefused) {
+    // A hand-edited pinhole with the orthographic pixel_size_m: it would do nothing, so the IR
+    // reader refuses it at its key, naming the type it belongs to.
+    const SensorKind& pinhole = *sensorTypeKinds().find("pinhole");
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(ir::toJsonText(irOf(parse(sensorScene(pinhole, "", "")))));
+    j["sensors"][0]["pixel_size_m"] = 0.1;
+    try {
+        (void)ir::fromJsonText(j.dump(2), "scene.json");
+        ADD_FAILURE();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("sensors[0].pixel_size_m: a pinhole sensor does not use this key; it "
+                                             "belongs to the orthographic sensor type"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 namespace {
 
 // `constituents:` with `param: value` on line 5.
