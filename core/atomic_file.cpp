@@ -380,6 +380,19 @@ void OutputSet::commit() {
     r.setActive = false;
 }
 
+OutputSetPause::OutputSetPause() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.m);
+    wasActive_ = r.setActive;
+    r.setActive = false;
+}
+
+OutputSetPause::~OutputSetPause() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.m);
+    r.setActive = wasActive_;
+}
+
 bool OutputSet::active() {
     Registry& r = registry();
     std::lock_guard<std::mutex> lock(r.m);

@@ -109,6 +109,21 @@ public:
     static bool active();
 };
 
+// While alive, files are written as if no set were current (each renamed over its target at
+// once, folders not removed on a rollback): for scratch files outside every output folder that
+// a command removes itself (check-scene's temporary copy of the textures it builds). The set's
+// staged files are untouched and it resumes when the pause ends. Not for concurrent use.
+class OutputSetPause {
+public:
+    OutputSetPause();
+    ~OutputSetPause();
+    OutputSetPause(const OutputSetPause&) = delete;
+    OutputSetPause& operator=(const OutputSetPause&) = delete;
+
+private:
+    bool wasActive_ = false;
+};
+
 // Publishes what the current set has staged so far and makes it permanent (a later rollback
 // keeps it). For outputs that must survive a later failure of the same command: the
 // validity.json of a rejected build, the synthetic site that `demo` then builds from.

@@ -53,6 +53,11 @@ namespace {
         if (names("probe", x.name)) throw InputError(x.loc, msg);
     for (const auto& x : spec.materials)
         if (names("material", x.name)) throw InputError(x.loc, msg);
+    // Texture classes become materials of their names (a class's mean times its reflectance is
+    // checked on the bands by the renderer).
+    if (spec.textureClasses)
+        for (const auto& c : scenegen::parseTextureClasses(*spec.textureClasses).classes)
+            if (names("material", c.name)) throw InputError(c.loc, msg);
     if (!orAtFile) throw e;
     throw InputError(SourceLoc{sceneFile.string()}, msg);
 }
@@ -83,8 +88,8 @@ private:
 void preflightRender(const scenegen::AssembledScene& built, const scenegen::SceneSpec& spec, const fs::path& sceneFile) {
     const TemporaryFolder tmp;
     if (built.textures) {
+        const OutputSetPause scratch;  // not outputs: removed with the folder, whatever happens
         built.textures->writeTextures(tmp.path());
-        publishStagedOutputs();
     }
     try {
         render::preflightRenderJob(built.ir, tmp.path(), render::RenderJobOptions{});

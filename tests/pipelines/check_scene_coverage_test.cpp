@@ -34,6 +34,17 @@ struct Case {
     std::string message;  // a fragment of the error
 };
 
+// A 4 x 4 class map of value 0 (an absolute path, written once with oiiotool).
+std::string classMap() {
+    static const std::string path = [] {
+        const fs::path p = littoral::testing_support::scratchDir("coverage", "map") / "map.png";
+        const std::string cmd = "oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o '" + p.string() + "' >/dev/null";
+        EXPECT_EQ(std::system(cmd.c_str()), 0);
+        return p.string();
+    }();
+    return path;
+}
+
 const std::vector<Case>& cases() {
     static const std::vector<Case> c{
         {"probe_on_seabed", "a probe exactly on the seabed (its lower hemisphere would read 0)",
@@ -59,6 +70,11 @@ const std::vector<Case>& cases() {
          "water: {surface: {model: flat, size: 12, spacing: 1, roughness: {wind_speed: 5}}, optics: {preset: coastal, "
          "refractive_index: 1.0}}",
          "", "between media of equal refractive index"},
+        {"class_mean_reflectance", "a texture class whose `mean` times its reflectance exceeds 1",
+         "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+         "bathymetry: {type: planar_slope, z0_m: -2}\ntexture_classes: {map: " + classMap() +
+             ", extent: {x: [-5, 5], y: [-5, 5]}, classes: [{index: 0, name: c0, reflectance: 0.9, mean: 10}]}",
+         ":6:120", "material 'c0': reflectance 9 outside [0, 1]"},
     };
     return c;
 }

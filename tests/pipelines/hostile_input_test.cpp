@@ -111,6 +111,17 @@ protected:
         writeTextFile(dir_, "scene.yaml", text);
         return runLittoral("-q " + command + " " + q(dir_ / "scene.yaml") + (withOut ? " --out " + q(out_) : ""));
     }
+    // Builds kScene into dir/ir and replaces `from` by `to` in its scene.json (a hand edit).
+    void editBuiltIr(const std::string& from, const std::string& to) {
+        ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status,
+                  0);
+        std::string json;
+        {
+            std::ifstream f(dir_ / "ir" / "scene.json");
+            json.assign(std::istreambuf_iterator<char>(f), {});
+        }
+        std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, from, to);
+    }
     fs::path dir_, out_;
 };
 
@@ -152,13 +163,7 @@ TEST_F(Hostile, TraversalAbsoluteNulAndCollidingNamesAreLocatedErrors) {
 }
 
 TEST_F(Hostile, RenderRefusesBadNamesInAnIR) {
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
-    std::string json;
-    {
-        std::ifstream f(dir_ / "ir" / "scene.json");
-        json.assign(std::istreambuf_iterator<char>(f), {});
-    }
-    std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"name\": \"nadir\"", "\"name\": \"../../evil\"");
+    editBuiltIr("\"name\": \"nadir\"", "\"name\": \"../../evil\"");
     const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.json: error: sensors[0].name: sensor name '../../evil' contains a path "
@@ -1064,13 +1069,7 @@ TEST_F(Hostile, PathEstimatorWarnsWhenPathsAreCutAtMaxBounces) {
 TEST_F(Hostile, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheEntry) {
     // A reflectance of 1.5 passes the IR's syntax, and the renderer refuses it; the message names
     // scene.json and the entry's JSON path, not only "material 'floor'".
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
-    std::string json;
-    {
-        std::ifstream f(dir_ / "ir" / "scene.json");
-        json.assign(std::istreambuf_iterator<char>(f), {});
-    }
-    std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"reflectance\": 0.2", "\"reflectance\": 1.5");
+    editBuiltIr("\"reflectance\": 0.2", "\"reflectance\": 1.5");
     const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.json: error: materials[") &&
