@@ -165,10 +165,10 @@ std::string irTypesWithKey(std::string_view key) {
     return orList(v);
 }
 
-std::string solverList(const std::vector<ir::Material::Solver>& solvers) {
-    std::string s;
-    for (size_t i = 0; i < solvers.size(); ++i) s += (i ? ", " : "") + std::string(nameOf(solvers[i]));
-    return s;
+std::vector<std::string> MaterialKind::solverNames() const {
+    std::vector<std::string> v;
+    for (ir::Material::Solver s : namedSolvers) v.emplace_back(nameOf(s));
+    return v;
 }
 
 }  // namespace littoral

@@ -41,8 +41,7 @@ struct MaterialKind {
     bool uses(std::string_view irKey) const;  // a parameter or an IR key of this type
     bool takesSceneKey(std::string_view key) const;
     bool isInterface() const { return lobes & kTransmission; }
-    bool isDiffuse() const { return lobes & kDiffuse; }
-    bool isDomainEdge() const { return lobes == 0; }
+    std::vector<std::string> solverNames() const;  // of namedSolvers, in order
 };
 inline const KindInfo& kindInfo(const MaterialKind& k) { return k.info; }
 
@@ -56,7 +55,5 @@ std::vector<std::string> sceneMaterialTypeNames();
 std::string sceneTypesWithKey(std::string_view key);
 // The types that use the IR key (a parameter or an IR key).
 std::string irTypesWithKey(std::string_view key);
-// "classic, generic, surface-pm".
-std::string solverList(const std::vector<ir::Material::Solver>& solvers);
 
 }  // namespace littoral

@@ -212,7 +212,7 @@ void readDirsigSolvers(const ir::SceneIR& ir, RenderConfig* c) {
                                                 kind.noSolverWhy, nameOf(solver)));
             if (std::find(kind.namedSolvers.begin(), kind.namedSolvers.end(), solver) == kind.namedSolvers.end())
                 materialError(m, i, fmt::format("solver {} cannot evaluate a {} material (allowed: {})", nameOf(solver),
-                                                kind.info.name, solverList(kind.namedSolvers)));
+                                                kind.info.name, joinList(kind.solverNames())));
         }
         c->solvers.push_back(solver);
     }

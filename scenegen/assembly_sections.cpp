@@ -223,12 +223,7 @@ TextureClassesSpec parseTextureClasses(const YamlNode& n) {
         // Optional: only a solver written in the file is set (the dirsig estimator defaults to
         // classic; other estimators refuse per-material solvers).
         // A class becomes a lambertian or textured material: the solvers those types take.
-        if (auto sv = c.optional("solver")) {
-            std::vector<std::string> solvers;
-            for (ir::Material::Solver x : materialKind(ir::Material::Type::Textured).namedSolvers)
-                solvers.emplace_back(nameOf(x));
-            s.solver = sv->asEnum(solvers);
-        }
+        if (auto sv = c.optional("solver")) s.solver = sv->asEnum(materialKind(ir::Material::Type::Textured).solverNames());
         t.classes.push_back(std::move(s));
     }
     if (t.classes.empty()) n["classes"].fail("define at least one class");

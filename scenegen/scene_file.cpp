@@ -319,9 +319,7 @@ MaterialSection parseMaterial(const YamlNode& n) {
         if (auto a = n.optional("absorption_per_m")) m.absorption = parseSpectrum(*a, 0, 1000, "m^-1");
     }
     if (auto sv = n.optional("solver")) {
-        std::vector<std::string> solvers;
-        for (ir::Material::Solver x : kind.namedSolvers) solvers.emplace_back(nameOf(x));
-        m.solver = sv->asEnum(solvers);
+        m.solver = sv->asEnum(kind.solverNames());
     }
     if (kind.hasReflectance) m.reflectance = parseSpectrum(n["reflectance"], 0, 1, "(reflectance)");
     return m;
