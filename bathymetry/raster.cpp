@@ -18,6 +18,7 @@
 #include "bathymetry/terrain.h"
 #include "core/atomic_file.h"
 #include "core/resource_limits.h"
+#include "core/stderr_capture.h"
 #include "core/suggest.h"
 
 namespace littoral::bathymetry {
@@ -250,7 +251,7 @@ std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::pat
         using T = decltype(tag);
         std::vector<T> buf(n);
         if (!in.read_image(0, 0, channel, channel + 1, td, buf.data()))
-            throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in.geterror());
+            throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in.geterror()));
         for (size_t k = 0; k < n; ++k) out[k] = static_cast<double>(buf[k]);
     };
     switch (t.basetype) {
@@ -267,27 +268,30 @@ std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::pat
 
 // The samples of the raster's channel `opt.channel`, row-major from the north; sets the grid's size.
 std::vector<double> readImageSamples(const std::filesystem::path& path, const RasterOptions& opt, Grid& g) {
-    const std::string file = path.string();
-    noteInput(file);  // no output may replace it
-    auto in = OIIO::ImageInput::open(file);
-    if (!in)
-        throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
-                                          "image format OpenImageIO reads): " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width < 2 || spec.height < 2 || spec.depth > 1)
-        throw InputError(SourceLoc{file}, fmt::format("raster is {} x {} x {}; need a 2D grid of at least 2 x 2",
-                                                      spec.width, spec.height, spec.depth));
-    if (opt.channel < 0 || opt.channel >= spec.nchannels)
-        throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} channel(s) (0..{})",
-                                                      opt.channel, spec.nchannels, spec.nchannels - 1));
-    // Decoding holds the samples twice (the file's type, then double): refuse before allocating.
-    requireMemory(16.0 * double(spec.width) * double(spec.height),
-                  fmt::format("an elevation raster of {} x {} samples would", spec.width, spec.height), SourceLoc{file});
-    g.nx = spec.width;
-    g.ny = spec.height;
-    std::vector<double> raw = readChannel(*in, path, opt.channel);
-    in->close();
-    return raw;
+    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
+    return quietLibraryCall([&] {
+        const std::string file = path.string();
+        noteInput(file);  // no output may replace it
+        auto in = OIIO::ImageInput::open(file);
+        if (!in)
+            throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
+                                              "image format OpenImageIO reads): " + libraryMessage(OIIO::geterror()));
+        const OIIO::ImageSpec& spec = in->spec();
+        if (spec.width < 2 || spec.height < 2 || spec.depth > 1)
+            throw InputError(SourceLoc{file}, fmt::format("raster is {} x {} x {}; need a 2D grid of at least 2 x 2",
+                                                          spec.width, spec.height, spec.depth));
+        if (opt.channel < 0 || opt.channel >= spec.nchannels)
+            throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} channel(s) (0..{})",
+                                                          opt.channel, spec.nchannels, spec.nchannels - 1));
+        // Decoding holds the samples twice (the file's type, then double): refuse before allocating.
+        requireMemory(16.0 * double(spec.width) * double(spec.height),
+                      fmt::format("an elevation raster of {} x {} samples would", spec.width, spec.height), SourceLoc{file});
+        g.nx = spec.width;
+        g.ny = spec.height;
+        std::vector<double> raw = readChannel(*in, path, opt.channel);
+        in->close();
+        return raw;
+    });
 }
 
 // With opt.utmZone set (the raster is placed by the scene's UTM frame), the projected system the

@@ -408,6 +408,13 @@ void publishStagedOutputs() {
     r.createdDirs.clear();
 }
 
+void exposeStagedOutputs() {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.m);
+    if (!r.setActive) return;
+    publishLocked(r);  // the renamed targets stay in `published` and the folders in `createdDirs`
+}
+
 void installInterruptCleanup() {
     sigset_t set;
     sigemptyset(&set);

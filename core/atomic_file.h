@@ -130,6 +130,13 @@ private:
 // Without a current set this does nothing.
 void publishStagedOutputs();
 
+// Renames what the current set has staged so far over its targets, so that the command can read
+// those files back (a scene file it then builds), but keeps them in the set: a later rollback or
+// interrupt still removes them and the folders the set created. For commands whose later steps read
+// their own earlier outputs (the image-quality study's run folders). Without a current set this
+// does nothing.
+void exposeStagedOutputs();
+
 // Blocks SIGINT and SIGTERM in the calling thread (threads created later inherit the mask; call
 // it first in main) and starts a thread that waits for them. On either signal it removes this
 // run's temporaries, the files of a set being published and the folders the set created, prints

@@ -45,6 +45,11 @@ template <class A, class B>
 }
 }  // namespace detail
 
+// A library's error text on one line, for a message of Littoral's: OpenImageIO returns a reader's
+// errors as several lines (e.g. "Read error: hit end of file", "PNG read error: IDAT: ...", "PNG
+// library error"); they are trimmed, repeats and empty lines dropped, and joined with "; ".
+std::string libraryMessage(const std::string& text);
+
 }  // namespace littoral
 
 // Internal invariants: print the failing expression and both operands, throw InternalError.

@@ -132,9 +132,14 @@ int lineSpread(const std::vector<double>& sm, const EdgeAnalysisOptions& o, Edge
     return peak;
 }
 
+// Adds `why` to the measures' list of undefined ones.
+void noteUndefined(EdgeMeasures* m, const std::string& why) { m->undefined += (m->undefined.empty() ? "" : "; ") + why; }
+
 // 10-90% width and tails from the smoothed ESF `sm` between its plateaus (the outer quarter of
-// the range on each side): robust against the derivative's noise.
-void edgeWidthAndTails(const std::vector<double>& sm, int peak, const EdgeAnalysisOptions& o, EdgeMeasures* m) {
+// the range on each side): robust against the derivative's noise. `tailSe` is the standard error
+// of one tails window's mean (the pixels' spread over the pixels in a window).
+void edgeWidthAndTails(const std::vector<double>& sm, int peak, const EdgeAnalysisOptions& o, double tailSe,
+                       EdgeMeasures* m) {
     const int n = static_cast<int>(sm.size());
     double hi = 0, lo = 0;
     int ch = 0, cl = 0;
@@ -146,6 +151,10 @@ void edgeWidthAndTails(const std::vector<double>& sm, int peak, const EdgeAnalys
     const int peakEsf = peak + 1;  // lsf[i] sits at esfX[i + 1]
     m->width1090 = crossing(m->esfX, sm, peakEsf, +1, lo + 0.1 * (hi - lo)) -
                    crossing(m->esfX, sm, peakEsf, -1, lo + 0.9 * (hi - lo));
+    if (std::isnan(m->width1090))
+        noteUndefined(m, fmt::format("the ESF does not cross its 10 % and 90 % levels within {:g} m of the edge, so "
+                                     "the 10-90 % width is undefined",
+                                     o.esfHalfRange));
     // Tails: the share of the step still missing, on average, between tailFrom and 2 tailFrom on
     // either side of the LSF's peak (window means keep the ESF's noise down).
     const double xp = m->lsfX[peak];
@@ -158,7 +167,18 @@ void edgeWidthAndTails(const std::vector<double>& sm, int peak, const EdgeAnalys
     };
     const double eBright = windowMean(xp - 2 * o.tailFrom, xp - o.tailFrom);
     const double eDark = windowMean(xp + o.tailFrom, xp + 2 * o.tailFrom);
-    m->tailFraction = hi != lo ? 1.0 - (eBright - eDark) / (hi - lo) : NAN;
+    const double step = hi - lo, tail = 1.0 - (eBright - eDark) / step;
+    // A share lies in [0, 1]. An estimate outside it by less than 3 of its standard errors is noise
+    // and is clipped; one farther out (or no window) means the windows measure noise, not tails.
+    const double se = std::sqrt(2.0) * tailSe / std::abs(step);
+    if (!(step > 0) || !std::isfinite(tail) || tail < -3 * se || tail > 1 + 3 * se) {
+        m->tailFraction = NAN;
+        noteUndefined(m, fmt::format("the tails estimate {:.3g} lies outside [0, 1] by more than 3 of its standard "
+                                     "errors ({:.2g}), so the tails are undefined",
+                                     tail, se));
+    } else {
+        m->tailFraction = std::clamp(tail, 0.0, 1.0);
+    }
 }
 
 void checkStudyOptions(const ImageQualityOptions& o) {
@@ -271,10 +291,12 @@ ImageQualityRow runOne(const ImageQualityOptions& o, const StudySetup& s, double
     EdgeGeometry ed = s.edge;
     ed.halfLength = 0.5 * s.target - eo.margin;
     writeTextFileAtomic(dir / "scene.yaml", runSceneYaml(o, s, p));
-    publishStagedOutputs();  // the build reads the scene and its mesh from disk
+    // The build reads the scene and its mesh from disk, the render the IR: they are renamed into
+    // place but stay in the study's one output set (an interrupted or failed study leaves nothing).
+    exposeStagedOutputs();
     checkRenderSettings(scenegen::loadSceneFile(dir / "scene.yaml"));
     const auto built = scenegen::buildScene(dir / "scene.yaml", dir / "ir");
-    publishStagedOutputs();
+    exposeStagedOutputs();
     render::RenderJobOptions jo;
     jo.threads = o.threads;
     jo.progress = false;
@@ -291,15 +313,19 @@ ImageQualityRow runOne(const ImageQualityOptions& o, const StudySetup& s, double
     return row;
 }
 
+// A measure as the CSV and the summary write it: 4 decimals, or `none` (empty in the CSV) if it is
+// undefined for this run (EdgeMeasures::undefined says why).
+std::string defined(double v, const char* none = "") { return std::isnan(v) ? none : fmt::format("{:.4f}", v); }
+
 void writeTable(const std::vector<ImageQualityRow>& rows, const fs::path& out) {
     std::string csv =
         "depth_m,search_radius_m,volume_density_per_m3,surface_photons,volume_photons,bright_mean,bright_std,bright_snr,"
         "dark_mean,dark_std,dark_snr,fwhm_m,width_10_90_m,tail_fraction,seconds\n";
     for (const auto& r : rows)
-        csv += fmt::format("{},{},{},{},{},{:.6g},{:.6g},{:.4g},{:.6g},{:.6g},{:.4g},{:.4f},{:.4f},{:.4f},{:.1f}\n",
-                           r.depth, r.radius, r.density, r.surfacePhotons, r.volumePhotons, r.m.bright.mean,
-                           r.m.bright.stddev, r.m.bright.snr, r.m.dark.mean, r.m.dark.stddev, r.m.dark.snr, r.m.fwhm,
-                           r.m.width1090, r.m.tailFraction, r.seconds);
+        csv += fmt::format("{},{},{},{},{},{:.6g},{:.6g},{:.4g},{:.6g},{:.6g},{:.4g},{},{},{},{:.1f}\n", r.depth,
+                           r.radius, r.density, r.surfacePhotons, r.volumePhotons, r.m.bright.mean, r.m.bright.stddev,
+                           r.m.bright.snr, r.m.dark.mean, r.m.dark.stddev, r.m.dark.snr, defined(r.m.fwhm),
+                           defined(r.m.width1090), defined(r.m.tailFraction), r.seconds);
     writeTextFileAtomic(out / "image_quality.csv", csv);
 }
 
@@ -386,8 +412,9 @@ std::string summaryText(const std::vector<ImageQualityRow>& rows, const fs::path
     std::string s = fmt::format("image-quality study: {} runs -> {}\n", rows.size(), out.string());
     s += "  depth  density  radius   SNR bright  SNR dark   FWHM m  10-90 m  tails\n";
     for (const auto& r : rows)
-        s += fmt::format("  {:5g}  {:7g}  {:6g}   {:10.1f}  {:8.1f}   {:6.3f}  {:7.3f}  {:5.3f}\n", r.depth, r.density,
-                         r.radius, r.m.bright.snr, r.m.dark.snr, r.m.fwhm, r.m.width1090, r.m.tailFraction);
+        s += fmt::format("  {:5g}  {:7g}  {:6g}   {:10.1f}  {:8.1f}   {:>6}  {:>7}  {:>5}\n", r.depth, r.density,
+                         r.radius, r.m.bright.snr, r.m.dark.snr, defined(r.m.fwhm, "-"), defined(r.m.width1090, "-"),
+                         defined(r.m.tailFraction, "-"));
     return s;
 }
 
@@ -408,7 +435,27 @@ EdgeMeasures analyseEdge(const std::vector<float>& plane, const PixelGrid& g, co
     oversampledEsf(s, o, &m);
     const std::vector<double> sm = boxcar(m.esf, o.smoothBins);
     const int peak = lineSpread(sm, o, &m);
-    edgeWidthAndTails(sm, peak, o, &m);
+    // The pixels in one tails window (tailFrom wide, the edge's length long) and the spread of a
+    // pixel about its side's mean give the window mean's standard error.
+    const double windowPixels = std::max(1.0, o.tailFrom * 2 * e.halfLength / (g.pixel * g.pixel));
+    const double pixelSpread = std::sqrt(0.5 * (m.bright.stddev * m.bright.stddev + m.dark.stddev * m.dark.stddev));
+    edgeWidthAndTails(sm, peak, o, pixelSpread / std::sqrt(windowPixels), &m);
+    // The edge measures need a step: bright minus dark at least kResolvedSigmas standard errors of
+    // the two sides' means (the pixels are correlated by the search disc, so the standard errors
+    // from their spread are optimistic: hence the margin).
+    constexpr double kResolvedSigmas = 4;
+    const double contrast = m.bright.mean - m.dark.mean;
+    const double se = std::sqrt(m.bright.stddev * m.bright.stddev / m.bright.pixels +
+                                m.dark.stddev * m.dark.stddev / m.dark.pixels);
+    if (!(contrast > kResolvedSigmas * se)) {
+        m.fwhm = m.width1090 = m.tailFraction = NAN;
+        m.undefined = fmt::format("the step is not resolved: bright minus dark is {:.3g} +- {:.2g}, less than {:g} "
+                                  "standard errors, so the FWHM, 10-90 % width and tails are undefined (raise the "
+                                  "photon density or the samples per pixel)",
+                                  contrast, se, kResolvedSigmas);
+    } else if (std::isnan(m.fwhm)) {
+        noteUndefined(&m, "the LSF does not fall to half its peak on both sides, so the FWHM is undefined");
+    }
     return m;
 }
 
@@ -427,9 +474,12 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
                 ImageQualityRow row = runOne(o, setup, depth, density, radius, out);
                 if (o.progress)
                     log::info("image quality {}/{}: depth {} m, {} photons/m^3, radius {} m: SNR bright {:.1f}, dark "
-                              "{:.1f}; FWHM {:.3f} m ({:.1f} s)",
+                              "{:.1f}; FWHM {} m ({:.1f} s)",
                               rows.size() + 1, total, depth, density, radius, row.m.bright.snr, row.m.dark.snr,
-                              row.m.fwhm, row.seconds);
+                              defined(row.m.fwhm, "undefined"), row.seconds);
+                if (!row.m.undefined.empty())
+                    log::warn("image quality: depth {} m, {} photons/m^3, radius {} m: {}", depth, density, radius,
+                              row.m.undefined);
                 rows.push_back(std::move(row));
             }
 

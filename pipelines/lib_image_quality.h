@@ -46,6 +46,10 @@ struct EdgeMeasures {
     double width1090 = 0;             // distance between the 10% and 90% points of the ESF, m
     double tailFraction = 0;          // share of the step still missing, on average, from tailFrom to
                                       // 2 tailFrom on either side of the LSF's peak (the LSF's tails)
+    // Why some of fwhm, width1090 and tailFraction are undefined (they are then NaN, and empty in
+    // the study's CSV): the step is not resolved above the noise, or the noisy ESF never crosses a
+    // level. Empty when all are defined.
+    std::string undefined;
 };
 
 struct EdgeAnalysisOptions {

@@ -66,7 +66,7 @@ double discFractionInside(double h, double r) {
     return 1.0 - (std::acos(x) - x * std::sqrt(1.0 - x * x)) / kPi;
 }
 
-constexpr int kCoverageProbes = 16;
+constexpr int kCoverageProbes = 16, kCoverageHits = 16, kMaxCoverageProbes = 4096;
 
 class DirsigEstimator final : public Estimator {
 public:
@@ -250,8 +250,8 @@ Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) c
     // Boundary compensation: the fraction of the search disc that this surface covers, from 16
     // equal-area points (a Vogel spiral) each probed with a short ray across the surface.
     const Frame f = Frame::fromNormal(n);
-    auto coverage = [&](int probes) {
-        int covered = 0;
+    auto covered = [&](int probes) {
+        int count = 0;
         for (int k = 0; k < probes; ++k) {
             const double rho = rS_ * std::sqrt((k + 0.5) / probes), phi = 2.399963229728653 * k;
             const Point3 q = wrapIntoDomain(h.p + f.toWorld(Vec3{rho * std::cos(phi), rho * std::sin(phi), 0}));
@@ -260,14 +260,18 @@ Spec DirsigEstimator::surfaceIrradiance(const SurfaceHit& h, const Normal3& n) c
             probe.d = -n;
             probe.tMax = 2 * slab;
             SurfaceHit ph;
-            if (scene_.geometry().intersect(probe, &ph) && dot(ph.front ? ph.ng : -ph.ng, n) > 0.9) ++covered;
+            if (scene_.geometry().intersect(probe, &ph) && dot(ph.front ? ph.ng : -ph.ng, n) > 0.9) ++count;
         }
-        return std::max(covered, 1) / static_cast<double>(probes);
+        return count;
     };
-    // 16 probes settle the common case of a fully covered disc; a cut disc is measured with 64
-    // (quantisation 1/64 instead of 1/16 of the disc).
-    double fraction = coverage(kCoverageProbes);
-    if (fraction < 1.0) fraction = coverage(4 * kCoverageProbes);
+    // 16 probes settle the common case of a fully covered disc. A cut disc is measured with 64, and
+    // with 4x more (up to kMaxCoverageProbes) while fewer than kCoverageHits of them land on the
+    // surface: a small photon-mapped object under a large disc is measured, not floored at 1/64
+    // (the quantisation is then at most about 1/kCoverageHits of the covered share).
+    int probes = kCoverageProbes, hits = covered(probes);
+    if (hits < probes) hits = covered(probes = 4 * kCoverageProbes);
+    while (hits < kCoverageHits && probes < kMaxCoverageProbes) hits = covered(probes *= 4);
+    const double fraction = std::max(hits, 1) / static_cast<double>(probes);
     return E * (1.0 / (kPi * rS_ * rS_ * fraction));
 }
 
@@ -465,9 +469,9 @@ const KindInfo& dirsigEstimatorKind() {
             {"volume_photons", "photons.volume", T::Integer, std::nullopt, 1, 1e10, "",
              "photons in the volume map (required by water solver medium-pm)"},
             {"surface_search_radius_m", "search_radius_m.surface", T::Real, 0.4, 1e-4, 100, "m",
-             "surface-map search radius of the first pass"},
+             "surface-map search radius of the first pass (at most the domain's smaller side)"},
             {"volume_search_radius_m", "search_radius_m.volume", T::Real, 0.4, 1e-4, 100, "m",
-             "volume-map search radius of the first pass"},
+             "volume-map search radius of the first pass (at most the domain's smaller side)"},
             marchStepSetting(),
             {"photon_max_bounces", "photons.max_bounces", T::Integer, 200, 1, 100000, "",
              "scattering and diffuse events per photon path"},

@@ -166,6 +166,20 @@ void readPhotonPasses(const ir::RenderSettings& s, SettingsReader& r, RenderConf
                            c->surfacePhotons, c->volumePhotons, formatBytes(need), sb, vb, formatBytes(budget)));
 }
 
+// A search radius must fit in the scene: a disc wider than the domain's smaller side reaches past
+// every surface (or water) it averages, and the boundary compensation, which measures the covered
+// share of the disc, cannot resolve a share far below 1/4 (the share at a corner of a surface that
+// spans the domain when r equals the smaller side): the estimate would fall as 1/r^2.
+void checkRadiusFitsDomain(const ir::SceneIR& ir, SettingsReader& r, const char* key, double radius) {
+    const ir::Domain& d = ir.domain;
+    const double side = std::min(d.x1 - d.x0, d.y1 - d.y0);
+    if (radius <= side) return;
+    r.fail(key, fmt::format("{}{:g} m is wider than the scene: a search radius may be at most the domain's smaller side, "
+                            "{:g} m (domain x [{:g}, {:g}], y [{:g}, {:g}] m), or the search disc reaches past the "
+                            "surfaces it averages and the estimate falls as 1/r^2",
+                            r.isSet(key) ? "" : "the default ", radius, side, d.x0, d.x1, d.y0, d.y1));
+}
+
 // The photon maps: read only when some material or medium uses a photon-map solver. Returns the
 // hint for settings set but not read.
 std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
@@ -182,6 +196,7 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
                           "the surface-pm solver needs the surface photon map: set render.photons.surface");
         c->surfacePhotons = r.get<uint64_t>("surface_photons");
         c->surfaceRadius = r.get<double>("surface_search_radius_m");
+        checkRadiusFitsDomain(ir, r, "surface_search_radius_m", c->surfaceRadius);
     }
     if (mediumPM >= 0) {
         if (!r.isSet("volume_photons"))
@@ -189,6 +204,7 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
                         "the medium-pm solver needs the volume photon map: set render.photons.volume");
         c->volumePhotons = r.get<uint64_t>("volume_photons");
         c->volumeRadius = r.get<double>("volume_search_radius_m");
+        checkRadiusFitsDomain(ir, r, "volume_search_radius_m", c->volumeRadius);
         c->marchStep = r.get<double>("march_step_m");
         c->effectiveScattering = r.get<bool>("effective_scattering");
     }

@@ -35,18 +35,18 @@ constexpr const char* kQuantity = "band-averaged spectral radiance";
 std::string encodeImage(const fs::path& target, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
     const std::string ext = target.extension().string().empty() ? std::string("exr") : target.extension().string().substr(1);
     auto out = OIIO::ImageOutput::create(ext);
-    if (!out) throw InputError(SourceLoc{target.string()}, "no image writer for this file type: " + OIIO::geterror());
+    if (!out) throw InputError(SourceLoc{target.string()}, "no image writer for this file type: " + libraryMessage(OIIO::geterror()));
     std::vector<unsigned char> bytes;
     OIIO::Filesystem::IOVecOutput vec(bytes);
     if (!out->supports("ioproxy") || !out->set_ioproxy(&vec))
         throw InternalError("the OpenImageIO " + ext + " writer cannot encode into memory");
-    if (!out->open("memory." + ext, spec)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + out->geterror());
+    if (!out->open("memory." + ext, spec)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
     if (!out->write_image(type, data)) {
-        const std::string err = out->geterror();
+        const std::string err = libraryMessage(out->geterror());
         out->close();
         throw InputError(SourceLoc{target.string()}, "cannot encode: " + err);
     }
-    if (!out->close()) throw InputError(SourceLoc{target.string()}, "cannot encode: " + out->geterror());
+    if (!out->close()) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
     return std::string(bytes.begin(), bytes.end());
 }
 
@@ -116,7 +116,7 @@ OiioImage oiioReadFloat(const fs::path& path) {
     requireRegularInputFile(path, "image file");
     noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + OIIO::geterror());
+    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + libraryMessage(OIIO::geterror()));
     OiioImage img;
     img.spec = in->spec();
     requireMemory(8.0 * double(img.spec.width) * double(img.spec.height) * double(img.spec.nchannels),
@@ -125,7 +125,7 @@ OiioImage oiioReadFloat(const fs::path& path) {
                   SourceLoc{path.string()});
     img.data.resize(static_cast<std::size_t>(img.spec.width) * img.spec.height * img.spec.nchannels);
     if (!in->read_image(0, 0, 0, img.spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data()))
-        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in->geterror());
+        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in->geterror()));
     in->close();
     return img;
 }
@@ -600,13 +600,13 @@ std::vector<int32_t> readMaterialIdTiff(const fs::path& path, int* width, int* h
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
     noteInput(path);  // no output may replace it
     auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + OIIO::geterror());
+    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + libraryMessage(OIIO::geterror()));
     const OIIO::ImageSpec spec = in->spec();
     if (spec.nchannels != 1)
         throw InputError(SourceLoc{path.string()}, fmt::format("expected one channel, found {}", spec.nchannels));
     std::vector<int32_t> ids(static_cast<std::size_t>(spec.width) * spec.height);
     if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::INT32, ids.data()))
-        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in->geterror());
+        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in->geterror()));
     in->close();
     if (width) *width = spec.width;
     if (height) *height = spec.height;

@@ -10,64 +10,71 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/material_kinds.h"
+#include "core/stderr_capture.h"
 #include "core/suggest.h"
 
 namespace littoral::render {
 
 std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) {
-    noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.nchannels != 1 || (spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.basetype != OIIO::TypeDesc::UINT16))
-        throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
-                                     path.string(), spec.nchannels, spec.format.c_str()));
-    auto r = std::make_shared<ClassRaster>();
-    r->width = spec.width;
-    r->height = spec.height;
-    if (r->width <= 0 || r->height <= 0) throw InputError(fmt::format("{}: class map has no pixels", path.string()));
-    const size_t n = static_cast<size_t>(r->width) * r->height;
-    r->values.resize(n);
-    // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
-    bool ok = false;
-    if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
-        std::vector<uint8_t> buf(n);
-        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data());
-        std::copy(buf.begin(), buf.end(), r->values.begin());
-    } else {
-        ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r->values.data());
-    }
-    if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in->geterror()));
-    return r;
+    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
+    return quietLibraryCall([&] {
+        noteInput(path);  // no output may replace it
+        auto in = OIIO::ImageInput::open(path.string());
+        if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), libraryMessage(OIIO::geterror())));
+        const OIIO::ImageSpec& spec = in->spec();
+        if (spec.nchannels != 1 || (spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.basetype != OIIO::TypeDesc::UINT16))
+            throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
+                                         path.string(), spec.nchannels, spec.format.c_str()));
+        auto r = std::make_shared<ClassRaster>();
+        r->width = spec.width;
+        r->height = spec.height;
+        if (r->width <= 0 || r->height <= 0) throw InputError(fmt::format("{}: class map has no pixels", path.string()));
+        const size_t n = static_cast<size_t>(r->width) * r->height;
+        r->values.resize(n);
+        // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
+        bool ok = false;
+        if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+            std::vector<uint8_t> buf(n);
+            ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data());
+            std::copy(buf.begin(), buf.end(), r->values.begin());
+        } else {
+            ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r->values.data());
+        }
+        if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), libraryMessage(in->geterror())));
+        return r;
+    });
 }
 
 std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
-    noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in->spec();
-    auto t = std::make_shared<Texture>();
-    t->width = spec.width;
-    t->height = spec.height;
-    if (t->width <= 0 || t->height <= 0) throw InputError(fmt::format("{}: texture has no pixels", path.string()));
-    std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-        throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), in->geterror()));
-    // 8-bit images are normalised by OIIO to [0, 1]; float images are taken as they are.
-    t->values.resize(static_cast<size_t>(spec.width) * spec.height);
-    for (size_t i = 0; i < t->values.size(); ++i) {
-        const float v = all[i * spec.nchannels];
-        // The texture multiplies a reflectance: a NaN, an infinity or a negative value would make
-        // the radiance of every ray that lands there meaningless.
-        if (!(std::isfinite(v) && v >= 0))
-            throw InputError(SourceLoc{path.string()},
-                             fmt::format("texture pixel (column {}, row {}; counted from 0, row 0 = north), channel 0 "
-                                         "is {}; a texture multiplies a reflectance, so its values must be finite and "
-                                         ">= 0",
-                                         i % size_t(spec.width), i / size_t(spec.width), v));
-        t->values[i] = v;
-    }
-    return t;
+    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
+    return quietLibraryCall([&] {
+        noteInput(path);  // no output may replace it
+        auto in = OIIO::ImageInput::open(path.string());
+        if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), libraryMessage(OIIO::geterror())));
+        const OIIO::ImageSpec& spec = in->spec();
+        auto t = std::make_shared<Texture>();
+        t->width = spec.width;
+        t->height = spec.height;
+        if (t->width <= 0 || t->height <= 0) throw InputError(fmt::format("{}: texture has no pixels", path.string()));
+        std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+            throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), libraryMessage(in->geterror())));
+        // 8-bit images are normalised by OIIO to [0, 1]; float images are taken as they are.
+        t->values.resize(static_cast<size_t>(spec.width) * spec.height);
+        for (size_t i = 0; i < t->values.size(); ++i) {
+            const float v = all[i * spec.nchannels];
+            // The texture multiplies a reflectance: a NaN, an infinity or a negative value would make
+            // the radiance of every ray that lands there meaningless.
+            if (!(std::isfinite(v) && v >= 0))
+                throw InputError(SourceLoc{path.string()},
+                                 fmt::format("texture pixel (column {}, row {}; counted from 0, row 0 = north), channel 0 "
+                                             "is {}; a texture multiplies a reflectance, so its values must be finite and "
+                                             ">= 0",
+                                             i % size_t(spec.width), i / size_t(spec.width), v));
+            t->values[i] = v;
+        }
+        return t;
+    });
 }
 
 namespace {

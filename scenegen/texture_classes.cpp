@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/resource_limits.h"
+#include "core/stderr_capture.h"
 #include "scenegen/image_encode.h"
 
 namespace littoral::scenegen {
@@ -21,38 +22,41 @@ namespace OIIO = OIIO_NAMESPACE;
 // A grey image as floats (channel 0, or the mean of R, G, B for colour images), values in the
 // file's nominal range mapped to [0, 1] for integer formats.
 std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& where, int* w, int* h) {
-    noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in->spec();
-    *w = spec.width;
-    *h = spec.height;
-    const int nc = spec.nchannels;
-    requireMemory(4.0 * (double(nc) + 1.0) * double(spec.width) * double(spec.height),
-                  fmt::format("texture image {} ({} x {} px, {} channels) would", path.string(), spec.width, spec.height, nc),
-                  where);
-    std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * nc);
-    if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, rgb.data()))
-        throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), in->geterror()));
-    std::vector<float> grey(static_cast<size_t>(spec.width) * spec.height);
-    const int use = nc >= 3 ? 3 : 1;
-    for (size_t i = 0; i < grey.size(); ++i) {
-        float s = 0;
-        for (int c = 0; c < use; ++c) {
-            const float v = rgb[i * nc + c];
-            // A NaN or infinity would spread through the class's mean and standard deviation into
-            // every pixel of the remapped texture (and from there into the radiance).
-            if (!std::isfinite(v))
-                throw InputError(where, fmt::format("texture image {}: pixel (column {}, row {}; counted from 0, row 0 "
-                                                    "at the top), channel {} is {}; texture values must be finite "
-                                                    "numbers",
-                                                    path.string(), i % size_t(spec.width), i / size_t(spec.width), c,
-                                                    v));
-            s += v;
+    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
+    return quietLibraryCall([&] {
+        noteInput(path);  // no output may replace it
+        auto in = OIIO::ImageInput::open(path.string());
+        if (!in) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), libraryMessage(OIIO::geterror())));
+        const OIIO::ImageSpec& spec = in->spec();
+        *w = spec.width;
+        *h = spec.height;
+        const int nc = spec.nchannels;
+        requireMemory(4.0 * (double(nc) + 1.0) * double(spec.width) * double(spec.height),
+                      fmt::format("texture image {} ({} x {} px, {} channels) would", path.string(), spec.width, spec.height, nc),
+                      where);
+        std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * nc);
+        if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, rgb.data()))
+            throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), libraryMessage(in->geterror())));
+        std::vector<float> grey(static_cast<size_t>(spec.width) * spec.height);
+        const int use = nc >= 3 ? 3 : 1;
+        for (size_t i = 0; i < grey.size(); ++i) {
+            float s = 0;
+            for (int c = 0; c < use; ++c) {
+                const float v = rgb[i * nc + c];
+                // A NaN or infinity would spread through the class's mean and standard deviation into
+                // every pixel of the remapped texture (and from there into the radiance).
+                if (!std::isfinite(v))
+                    throw InputError(where, fmt::format("texture image {}: pixel (column {}, row {}; counted from 0, row 0 "
+                                                        "at the top), channel {} is {}; texture values must be finite "
+                                                        "numbers",
+                                                        path.string(), i % size_t(spec.width), i / size_t(spec.width), c,
+                                                        v));
+                s += v;
+            }
+            grey[i] = s / use;
         }
-        grey[i] = s / use;
-    }
-    return grey;
+        return grey;
+    });
 }
 
 }  // namespace
@@ -69,40 +73,43 @@ Vec2 ClassMap::pixelCentre(int i, int j) const {
 }
 
 ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Extent& extent) {
-    const SourceLoc where{path.string()};
-    noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(where, "cannot read classification map: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    const auto base = spec.format.basetype;
-    // One class index per pixel: a colour image has no single index per pixel (reading its red
-    // channel would turn colours into arbitrary classes such as 128).
-    if (spec.nchannels != 1)
-        throw InputError(where, fmt::format("classification map has {} channels; it must be a single-channel image of "
-                                            "class indices (8- or 16-bit grey, not RGB or with alpha)",
-                                            spec.nchannels));
-    requireMemory(4.0 * double(spec.width) * double(spec.height),
-                  fmt::format("a classification map of {} x {} px would", spec.width, spec.height), where);
-    if (base != OIIO::TypeDesc::UINT8 && base != OIIO::TypeDesc::UINT16)
-        throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
-                                            "this image is {}",
-                                            spec.format.c_str()));
-    ClassMap m;
-    m.width = spec.width;
-    m.height = spec.height;
-    m.extent = extent;
-    const size_t n = static_cast<size_t>(m.width) * m.height;
-    m.value.resize(n);
-    // Read channel 0 in the file's own integer type so the indices are not rescaled.
-    if (base == OIIO::TypeDesc::UINT8) {
-        std::vector<uint8_t> buf(n);
-        if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data()))
-            throw InputError(where, "cannot read classification map: " + in->geterror());
-        std::copy(buf.begin(), buf.end(), m.value.begin());
-    } else if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, m.value.data())) {
-        throw InputError(where, "cannot read classification map: " + in->geterror());
-    }
-    return m;
+    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
+    return quietLibraryCall([&] {
+        const SourceLoc where{path.string()};
+        noteInput(path);  // no output may replace it
+        auto in = OIIO::ImageInput::open(path.string());
+        if (!in) throw InputError(where, "cannot read classification map: " + libraryMessage(OIIO::geterror()));
+        const OIIO::ImageSpec& spec = in->spec();
+        const auto base = spec.format.basetype;
+        // One class index per pixel: a colour image has no single index per pixel (reading its red
+        // channel would turn colours into arbitrary classes such as 128).
+        if (spec.nchannels != 1)
+            throw InputError(where, fmt::format("classification map has {} channels; it must be a single-channel image of "
+                                                "class indices (8- or 16-bit grey, not RGB or with alpha)",
+                                                spec.nchannels));
+        requireMemory(4.0 * double(spec.width) * double(spec.height),
+                      fmt::format("a classification map of {} x {} px would", spec.width, spec.height), where);
+        if (base != OIIO::TypeDesc::UINT8 && base != OIIO::TypeDesc::UINT16)
+            throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
+                                                "this image is {}",
+                                                spec.format.c_str()));
+        ClassMap m;
+        m.width = spec.width;
+        m.height = spec.height;
+        m.extent = extent;
+        const size_t n = static_cast<size_t>(m.width) * m.height;
+        m.value.resize(n);
+        // Read channel 0 in the file's own integer type so the indices are not rescaled.
+        if (base == OIIO::TypeDesc::UINT8) {
+            std::vector<uint8_t> buf(n);
+            if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data()))
+                throw InputError(where, "cannot read classification map: " + libraryMessage(in->geterror()));
+            std::copy(buf.begin(), buf.end(), m.value.begin());
+        } else if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, m.value.data())) {
+            throw InputError(where, "cannot read classification map: " + libraryMessage(in->geterror()));
+        }
+        return m;
+    });
 }
 
 std::vector<float> remapMeanStd(const std::vector<float>& t, const std::vector<char>& mask, double mu, double sigma,

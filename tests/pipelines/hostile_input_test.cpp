@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -1076,4 +1078,121 @@ TEST_F(Hostile, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheEntry) {
                 contains(r.output, "]: material 'floor': reflectance 1.5 outside [0, 1]"))
         << r.output;
     expectNothingWritten(out_, "render");
+}
+
+// ---- The image-quality study: statistics defined or blank, one output set ----------------------
+
+TEST_F(Hostile, StudyStatisticsAreDefinedOrLeftBlankWithAReason) {
+    // The hostile report's l14: 100 volume photons per m^3 in a 24-pixel image leave the step
+    // under the noise; the study wrote width_10_90_m = nan and tails of -1.28 and 3.21.
+    const CommandResult r = runLittoral("study image-quality --out " + q(out_) +
+                                        " --pixels 24 --spp 1 --radii 0.25 0.6 --densities 100 --depths 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream f(out_ / "image_quality.csv");
+    std::string header, line;
+    std::getline(f, header);
+    ASSERT_TRUE(contains(header, "fwhm_m,width_10_90_m,tail_fraction,seconds")) << header;
+    int rows = 0, blanks = 0;
+    while (std::getline(f, line)) {
+        ++rows;
+        EXPECT_FALSE(contains(line, "nan") || contains(line, "inf")) << line;
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+        if (line.back() == ',') cells.emplace_back();
+        ASSERT_EQ(cells.size(), 15u) << line;
+        const std::string& tails = cells[13];
+        if (tails.empty()) {
+            ++blanks;
+            continue;
+        }
+        const double t = std::stod(tails);
+        EXPECT_GE(t, 0.0) << line;
+        EXPECT_LE(t, 1.0) << line;
+    }
+    EXPECT_EQ(rows, 2);
+    // Whatever is left blank is explained on stderr.
+    if (blanks > 0 || contains(r.output, "undefined")) EXPECT_TRUE(contains(r.output, "are undefined") ||
+                                                                   contains(r.output, "is undefined"))
+        << r.output;
+}
+
+TEST_F(Hostile, InterruptedStudyLeavesNothing) {
+    // The hostile report's p18: SIGINT while the second of two runs was being made left the first
+    // run's folder and half of the second's, and said "removed 0 partial output file(s)".
+    const pid_t pid = spawnLittoral({"-q", "study", "image-quality", "--out", out_.string(), "--pixels", "24", "--spp",
+                                     "1", "--radii", "0.25", "0.5", "--densities", "100", "--depths", "1"});
+    ASSERT_GT(pid, 0);
+    const fs::path second = out_ / "runs" / "d1_n100_r0.5";
+    bool seen = false;
+    for (int i = 0; i < 12000 && !seen; ++i) {
+        seen = fs::exists(second / "scene.yaml");
+        if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_TRUE(seen) << "the second run did not start within 60 s";
+    ::kill(pid, SIGINT);
+    EXPECT_EQ(waitStatus(pid), 130);
+    expectNothingWritten(out_, "SIGINT during the study");
+}
+
+namespace {
+uint32_t crc32(const std::string& bytes) {  // the PNG chunk CRC (ISO 3309)
+    uint32_t c = 0xffffffffu;
+    for (unsigned char b : bytes) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+uint32_t be32(const std::string& s, size_t at) {
+    return (uint32_t(uint8_t(s[at])) << 24) | (uint32_t(uint8_t(s[at + 1])) << 16) | (uint32_t(uint8_t(s[at + 2])) << 8) |
+           uint32_t(uint8_t(s[at + 3]));
+}
+std::string put32(uint32_t v) { return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; }
+// The PNG with every IDAT chunk cut to half its data (lengths and CRCs rewritten): a well-formed
+// file whose compressed image stops early, so that libpng itself reports "Not enough image data".
+std::string withShortIdat(const std::string& png) {
+    std::string out = png.substr(0, 8);
+    for (size_t at = 8; at + 12 <= png.size();) {
+        const uint32_t n = be32(png, at);
+        const std::string type = png.substr(at + 4, 4);
+        std::string body = png.substr(at + 8, n);
+        if (type == "IDAT") body.resize(body.size() / 2);
+        out += put32(uint32_t(body.size())) + type + body + put32(crc32(type + body));
+        at += 12 + n;
+    }
+    return out;
+}
+}  // namespace
+
+TEST_F(Hostile, TruncatedPngGivesOneMessageWithoutLibpngNoise) {
+    // The hostile report's e18: a class map whose image data stops short printed three libpng lines
+    // around the real error. A 64 x 64 PNG of varied values (so its IDAT is not tiny), with its
+    // IDAT cut short inside a well-formed file, and the whole file cut to half.
+    const fs::path map = dir_ / "map.png", good = dir_ / "good.png";
+    ASSERT_EQ(std::system(("oiiotool --pattern noise:type=uniform:min=0:max=1 64x64 1 -d uint8 -o " + q(good) +
+                           " > /dev/null 2>&1").c_str()),
+              0);
+    std::string png;
+    {
+        std::ifstream f(good, std::ios::binary);
+        png.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    const std::string text = replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
+                                      "bathymetry: {type: planar_slope, z0_m: -2}\ntexture_classes: {map: map.png, "
+                                      "extent: {x: [-5, 5], y: [-5, 5]}, classes: [{index: 0, name: c0, reflectance: "
+                                      "0.2}]}");
+    for (const std::string& bad : {withShortIdat(png), png.substr(0, png.size() / 2)}) {
+        std::ofstream(map, std::ios::binary) << bad;
+        for (const std::string cmd : {"check-scene", "run"}) {
+            fs::remove_all(out_);
+            const CommandResult r = runScene(cmd, text, cmd != "check-scene");
+            EXPECT_EQ(r.status, 1) << cmd << ": " << r.output;
+            EXPECT_FALSE(contains(r.output, "libpng")) << cmd << ": " << r.output;
+            EXPECT_TRUE(contains(r.output, "map.png: error: cannot read classification map: ")) << cmd << ": " << r.output;
+            // One message on one line (OpenImageIO's several lines are joined: core/error.h libraryMessage).
+            EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << cmd << ": " << r.output;
+            expectNothingWritten(out_, cmd);
+        }
+    }
 }

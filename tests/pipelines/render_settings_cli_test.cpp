@@ -134,4 +134,15 @@ TEST(RenderSettingsCli, PhotonMapSettings) {
                    "medium 'water': the medium-pm solver needs the volume photon map: set render.photons.volume"});
     expectRefused({"photons-over-budget", replaceLine(pm, "{volume: 20000}", "{volume: 9000000000}"), ":23:21",
                    "more than the memory budget"});
+    // A radius wider than the 20 m domain (issue 20; the hostile report's a07: 40 m on a 4 m
+    // seabed read 4.4 against 21.7) is refused at the key; one equal to the smaller side is not.
+    expectRefused({"radius-wider-than-scene", replaceLine(pm, "{volume: 0.3}", "{volume: 25}"), ":24:29",
+                   "render.search_radius_m.volume: 25 m is wider than the scene: a search radius may be at most the "
+                   "domain's smaller side, 20 m (domain x [-10, 10], y [-10, 10] m)"});
+    {
+        const fs::path dir = scratchDir("render_settings_cli", "radius-domain-side");
+        const std::string text = replaceLine(pm, "{volume: 0.3}", "{volume: 20}");
+        const CommandResult r = runLittoral("--quiet check-scene " + writeTextFile(dir, "pm.yaml", text).string());
+        EXPECT_EQ(r.status, 0) << r.output;
+    }
 }

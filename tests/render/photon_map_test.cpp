@@ -127,6 +127,33 @@ TEST(SurfacePM, BoundaryCompensationAtAnEdge) {
 }
 
 
+// The same compensation when the disc is much larger than the lit surface: a 0.25 m x 0.25 m
+// platform under a 0.9 m search radius covers 2.5 % of the disc. The coverage probes are refined
+// (64, 256, 1024 ...) until at least 16 land on the top, so the share is measured to about 1/16 of
+// itself instead of being floored at 1/64 of the disc (one or two of 64 probes: 1.6x too high or
+// 0.8x too low here). The top
+// holds 400000 x 0.0625 / 9 = 2800 photons, all inside the disc (1.9 %). Tolerance: 4 of those
+// standard errors plus the coverage quantisation (1 probe in 16, 6 %).
+TEST(SurfacePM, BoundaryCompensationUnderADiscMuchLargerThanTheSurface) {
+    ir::SceneIR s;
+    s.name = "small-top";
+    s.domain = {-1.5, 1.5, -1.5, 1.5, false};
+    s.sun.enabled = false;
+    s.sky.radiance = Spectrum::constant(1.0 / kPi);
+    s.render.settings.set("surface_photons", 400000);
+    s.render.settings.set("surface_search_radius_m", 0.9);
+    s.materials.push_back(material("white", M::Type::Lambertian, M::Solver::SurfacePM, 1.0));
+    s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
+    s.meshes.push_back(meshOf("ground", plane(-3, 3, -3, 3, 0), {"black"}));
+    s.meshes.push_back(meshOf("platform", box({-0.125, -0.125, 0}, {0.125, 0.125, 0.5}), {"white"}, "", "", true));
+    s.sensors.push_back(ortho("centre", {0.03, 0.02, 5}, {0, 0, -1}, {0, 1, 0}, 1, 1, 1e-3));
+    const Scene scene(s, ".");
+    const double L = renderSensor(scene, s.sensors[0], quiet()).film.pixels[0];
+    const double pred = 1.0 / kPi;
+    EXPECT_NEAR(L, pred, (4 * 0.019 + 1.0 / 16) * pred);
+    std::printf("[ surface-pm ] 0.25 m top under a 0.9 m disc: %.5f (predicted %.5f)\n", L, pred);
+}
+
 // Mean of the film over the pixels (i, j) for which keep(i, j).
 template <class Keep> double regionMean(const Film& f, Keep keep, int* count = nullptr) {
     double s = 0;
