@@ -65,12 +65,13 @@ const std::vector<Case>& cases() {
          "pixel_pitch_um: 100, width: 8, height: 8, medium: air}",
          ":8:5", "declared in medium 'air', but the interfaces around its position (0, 0, -1) put it in 'water'"},
         {"frame_up_parallel", "a nadir frame sensor with `up: [0, 0, 1]` (parallel to the view)",
-         "width: 16, height: 12}", "width: 16, height: 12, up: [0, 0, 1]}", ":8:5", "is parallel to forward"},
+         "width: 16, height: 12}", "width: 16, height: 12, up: [0, 0, 1]}", ":8:119",
+         "sensors[0].up: 'up' (0, 0, 1) must not be parallel to the view direction (0, 0, -1)"},
         {"rough_equal_indices", "a rough water surface over water of refractive index 1 (no interface to be rough)",
          "water: {optics: {preset: coastal}}",
          "water: {surface: {model: flat, size: 12, spacing: 1, roughness: {wind_speed: 5}}, optics: {preset: coastal, "
          "refractive_index: 1.0}}",
-         "", "between media of equal refractive index"},
+         ":4:65", "water.surface.roughness: a rough surface needs water of another refractive index than the air's"},
         {"class_mean_reflectance", "a texture class whose `mean` times its reflectance exceeds 1",
          "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
          "bathymetry: {type: planar_slope, z0_m: -2}\ntexture_classes: {map: " + classMap() +
