@@ -382,6 +382,7 @@ void readRender(const JReader& rr, RenderSettings* out) {
     if (!rr.json().is_object()) rr.fail("expected an object");
     r.bands.clear();
     auto bands = rr["bands_um"];
+    if (bands.size() == 0) bands.fail("at least one band is required");
     for (size_t i = 0; i < bands.size(); ++i) {
         const auto v = bands.at(i).nums();
         if (v.size() != 2 || !(v[1] > v[0]) || v[0] <= 0) bands.at(i).fail("expected [lo, hi] with 0 < lo < hi");

@@ -153,6 +153,11 @@ std::string runScene(const RunOptions& o) {
     const fs::path out(o.out), irDir = out / "ir";
     const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
     checkRenderSettings(spec);  // before anything is written
+    // A scene may be built for its geometry alone (check-scene and build warn); run has nothing to
+    // render, and says so before writing the IR.
+    if (spec.sensors.empty() && spec.probes.empty())
+        throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to render "
+                                             "(build makes its geometry alone)");
     // The renderer's own checks run on the scene in memory before the IR is written.
     const auto built = scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
     // The IR is a complete output set of its own, and the renderer reads its textures from

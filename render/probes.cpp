@@ -168,6 +168,7 @@ void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry) {
 
 void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& probe) {
     const std::string who = fmt::format("probe '{}'", probe.name);
+    checkPositionInRange(probe.position, who);
     const int medium = scene.mediumIndex(probe.medium, who + " medium");
     checkNotInsideOpaque(scene, probe.position, who);
     checkClearOfSurfaces(scene, probe.position, who);

@@ -199,7 +199,7 @@ std::vector<const ir::Sensor*> selectSensors(const ir::SceneIR& ir, const std::s
         throw InputError(fmt::format("--sensor: no sensor named '{}' (sensors: {}){}", only, joinList(names),
                                      close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
     }
-    if (sensors.empty() && ir.probes.empty()) throw InputError("the scene has no sensors and no probes: nothing to render");
+    if (sensors.empty() && ir.probes.empty()) throw InputError("sensors, probes: both are empty: there is nothing to render");
     return sensors;
 }
 
@@ -334,6 +334,17 @@ bool atEntry(const InputError& e, const std::vector<T>& entries, const char* wha
             throw InputError(SourceLoc{file.string()}, fmt::format("{}[{}]: {}", key, i, e.message()));
     return false;
 }
+
+// Whether the message starts with a key path of scene.json ("render.hemisphere_samples: ...",
+// "sun.half_angle_rad: ...", "instances[0] (mesh 'cube'): ...").
+bool startsWithIrKey(const std::string& msg) {
+    for (const std::string_view k :
+         {"render", "domain", "sun", "sky", "media", "materials", "meshes", "instances", "sensors", "probes"})
+        if (msg.size() > k.size() && msg.compare(0, k.size(), k) == 0 &&
+            std::string_view(".[:,").find(msg[k.size()]) != std::string_view::npos)
+            return true;
+    return false;
+}
 }  // namespace
 
 void rethrowAtIrEntry(const InputError& e, const ir::SceneIR& ir, const std::filesystem::path& file) {
@@ -343,6 +354,7 @@ void rethrowAtIrEntry(const InputError& e, const ir::SceneIR& ir, const std::fil
         atEntry(e, ir.meshes, "mesh", "meshes", file);
         atEntry(e, ir.sensors, "sensor", "sensors", file);
         atEntry(e, ir.probes, "probe", "probes", file);
+        if (startsWithIrKey(e.message())) throw InputError(SourceLoc{file.string()}, e.message());
     }
     throw e;
 }

@@ -57,7 +57,9 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
 void preflightRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir, const RenderJobOptions& opts);
 // Rethrows `e`, located at `file` (scene.json) and the JSON path of the IR entry it names when it
 // has no location and begins with "material 'x'", "medium 'x'", "mesh 'x'", "sensor 'x'" or
-// "probe 'x'" (so a hand-edited IR's mistake names the file and the key).
+// "probe 'x'"; located at `file` as it is when it begins with a key path of scene.json
+// ("render.hemisphere_samples: ...", "sun.zenith_rad: ...", "instances[0] ..."). So a hand-edited
+// IR's mistake names the file and the key.
 [[noreturn]] void rethrowAtIrEntry(const InputError& e, const ir::SceneIR& ir, const std::filesystem::path& file);
 // Reads the IR from `irDir` (ir::readIR) and runs the job; render-time errors name scene.json and
 // the entry (rethrowAtIrEntry).

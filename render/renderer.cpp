@@ -92,6 +92,15 @@ template <class F> void forEachAxisHit(const Scene& scene, const Point3& p, F&& 
 }
 }  // namespace
 
+void checkPositionInRange(const Point3& p, const std::string& who) {
+    for (double c : {p.x, p.y, p.z})
+        if (!(std::abs(c) <= kMaxPositionM))
+            throw InputError(fmt::format("{}: position ({}, {}, {}) lies beyond {:g} m from the origin; positions must be "
+                                         "finite and within {:g} m in each coordinate (rays from farther away lose "
+                                         "their precision in single-precision ray tracing)",
+                                         who, p.x, p.y, p.z, kMaxPositionM, kMaxPositionM));
+}
+
 void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who) {
     forEachAxisHit(scene, p, [&](const SurfaceHit& h) {
         const MaterialData& m = scene.material(h);
@@ -145,6 +154,7 @@ void checkClearOfSurfaces(const Scene& scene, const Point3& p, const std::string
 TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
     const Camera cam(sensor);
     const std::string who = fmt::format("sensor '{}'", sensor.name);
+    checkPositionInRange(sensor.position, who);
     const int medium = scene.mediumIndex(sensor.medium, who + " medium");
     if (sensor.type == ir::Sensor::Type::Pinhole) {
         checkNotInsideOpaque(scene, sensor.position, who);

@@ -46,6 +46,11 @@ SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const Ren
 // camera checks above.
 TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts = {});
 
+// Throws InputError if a sensor's or probe's position is not finite or has a coordinate beyond
+// kMaxPositionM: Embree traces in single precision and refuses (asserts on) ray origins beyond
+// about 1.8e18, and far short of that a ray origin keeps no useful precision.
+inline constexpr double kMaxPositionM = 1e9;  // m: far beyond a geostationary orbit (3.6e7 m)
+void checkPositionInRange(const Point3& p, const std::string& who);
 // Throws InputError if the point lies inside a closed mesh with an opaque material.
 void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string& who);
 // Throws InputError if an opaque surface lies closer than kSurfaceClearance to the point along one

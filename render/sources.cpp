@@ -24,9 +24,9 @@ Vec3 SunSource::sampleDirection(double u1, double u2) const {
 SunSource makeSun(const ir::Sun& sun, const std::vector<Band>& bands) {
     SunSource s;
     if (!(sun.halfAngle > 0 && sun.halfAngle < 0.5 * kPi))
-        throw InputError(fmt::format("sun.halfAngle {} rad must lie in (0, pi/2)", sun.halfAngle));
+        throw InputError(fmt::format("sun.half_angle_rad: {} rad must lie in (0, pi/2)", sun.halfAngle));
     if (!(sun.zenith >= 0 && sun.zenith <= kPi))
-        throw InputError(fmt::format("sun.zenith {} rad must lie in [0, pi]", sun.zenith));
+        throw InputError(fmt::format("sun.zenith_rad: {} rad must lie in [0, pi]", sun.zenith));
     s.direction = sunDirection(sun.zenith, sun.azimuth);
     s.halfAngle = sun.halfAngle;
     s.cosHalfAngle = std::cos(sun.halfAngle);

@@ -211,6 +211,28 @@ void parseSensorOptics(const YamlNode& n, const SensorKind& kind, SensorSection*
     }
 }
 
+// A sensor's `up` (the node `u`, read as `up`) against its unit view direction `d`: refused at
+// the key when it is zero or parallel to the view. Scaled by its largest component first, as the
+// renderer does, so that [0, 1e200, 0] (whose length overflows) and [0, 1e-10, 0] are directions
+// like any other.
+void checkUp(const YamlNode& u, const Vec3& up, const Vec3& d) {
+    const double m = std::max({std::abs(up.x), std::abs(up.y), std::abs(up.z)});
+    if (!(m > 0)) u.fail("'up' must be non-zero (it sets the image's up direction)");
+    if (length(cross(d, normalize(Vec3{up.x / m, up.y / m, up.z / m}))) < 1e-9) {
+        auto c = [](double x) { return std::abs(x) < 1e-9 ? 0.0 : x; };  // no rounding noise in the message
+        u.fail(fmt::format("'up' ({:g}, {:g}, {:g}) must not be parallel to the view direction ({:.6g}, {:.6g}, {:.6g})",
+                           up.x, up.y, up.z, c(d.x), c(d.y), c(d.z)));
+    }
+}
+
+// A frame sensor (Table 10.1): the unit vector from the target toward the sensor at elevation e
+// and compass azimuth phi, and whether its image's up is the scene file's `up` (a nadir view) or
+// far range.
+Vec3 frameToSensor(double e, double phi) {
+    return {std::cos(e) * std::sin(phi), std::cos(e) * std::cos(phi), std::sin(e)};
+}
+bool frameUsesUp(double e) { return std::abs(std::sin(e)) > 0.999; }
+
 // A pinhole or orthographic sensor's placement: position, look_at or direction, up.
 void parsePlacement(const YamlNode& n, SensorSection* s) {
     s->position = parseVec3(n["position"]);
@@ -218,9 +240,12 @@ void parsePlacement(const YamlNode& n, SensorSection* s) {
     const Vec3 d = n.has("look_at") ? parseVec3(n["look_at"]) - s->position : parseVec3(n["direction"]);
     if (length(d) < 1e-12) n.fail("the view direction has zero length");
     s->direction = normalize(d);
-    if (auto u = n.optional("up")) s->up = parseVec3(*u);
-    else s->up = std::abs(s->direction.z) > 0.99 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
-    if (length(cross(s->direction, s->up)) < 1e-9) n["up"].fail("'up' must not be parallel to the view direction");
+    if (auto u = n.optional("up")) {
+        s->up = parseVec3(*u);
+        checkUp(*u, s->up, s->direction);
+    } else {
+        s->up = std::abs(s->direction.z) > 0.99 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+    }
 }
 
 // A frame sensor (dissertation Table 10.1): placed by elevation, azimuth, range and GSD; scenegen
@@ -233,8 +258,13 @@ void parseFramePlacement(const YamlNode& n, SensorSection* s) {
     s->range = n["range_m"].asDouble(0.01, 1e6, "m");
     s->gsd = n["gsd_m"].asDouble(1e-5, 1e4, "m");
     if (auto t = n.optional("target")) s->target = parseVec3(*t);
-    if (auto u = n.optional("up")) s->up = parseVec3(*u);
-    else s->up = {0, 1, 0};
+    if (auto u = n.optional("up")) {
+        s->up = parseVec3(*u);
+        // Only a nadir view uses it (placeSensor): the image's up is otherwise far range.
+        if (frameUsesUp(s->elevation)) checkUp(*u, s->up, -frameToSensor(s->elevation, s->compassAzimuth));
+    } else {
+        s->up = {0, 1, 0};
+    }
 }
 
 SensorSection parseSensor(const YamlNode& n) {
@@ -672,6 +702,19 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
             for (const auto& sc : l->scatterers) checkCover(sc.scattering, *w, "water scattering (" + sc.name + ")");
         }
         checkCover(o.refractiveIndex, *w, "water refractive index");
+        // A rough surface refracts between different indices only (render/rough_dielectric.h):
+        // water of the air's index leaves it nothing to be rough between, and the renderer would
+        // refuse the interface.
+        if (auto surface = w->optional("surface"); surface && surface->has("roughness")) {
+            const std::vector<double> n = o.refractiveIndex.bandAverages(bands, "water refractive index");
+            for (size_t b = 0; b < n.size(); ++b)
+                if (std::abs(n[b] - 1.0) <= 1e-6)
+                    (*surface)["roughness"].fail(fmt::format(
+                        "a rough surface needs water of another refractive index than the air's (1), but "
+                        "water.optics.refractive_index is {} in band {} ([{}, {}] um); remove the roughness or give "
+                        "the water its index",
+                        n[b], b, bands[b].lo, bands[b].hi));
+        }
         // Every accepted setting is read: a phase function written in the file is used only where
         // light is scattered rather than lost: by the path estimator, or by the dirsig estimator's
         // MediumPM solver (without it, dirsig treats scattering as loss, Beer–Lambert with c = a + b).
@@ -705,13 +748,13 @@ ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater)
         // from the target) and elevation e, at slant range d. The IFOV follows from the GSD along the
         // optical axis: ifov = gsd / d (small-angle), realised as a pinhole with a 10 um pitch.
         const double e = s.elevation, phi = s.compassAzimuth;
-        const Vec3 toSensor{std::cos(e) * std::sin(phi), std::cos(e) * std::cos(phi), std::sin(e)};
+        const Vec3 toSensor = frameToSensor(e, phi);
         c.type = ir::Sensor::Type::Pinhole;
         c.position = s.target + toSensor * s.range;
         c.forward = -toSensor;
         // "Up" in the image is the direction away from the sensor on the ground (top of the frame is
         // far range); at nadir it is the given up vector (north by default).
-        c.up = std::abs(toSensor.z) > 0.999 ? s.up : Vec3{0, 0, 1};
+        c.up = frameUsesUp(e) ? s.up : Vec3{0, 0, 1};
         c.pixelPitch = 10e-6;
         c.focalLength = c.pixelPitch * s.range / s.gsd;
     } else {
