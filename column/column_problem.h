@@ -24,6 +24,8 @@ struct ColumnBand {
     Band band;
     std::vector<ColumnLayer> layers;  // top to bottom, the first at depth 0; the last reaches down
     double waterIndex = 1.34;         // refractive index of the water (air 1)
+    // Total mean-square slope s2 of an isotropic Cox-Munk surface (column/rough_surface.h); 0: flat.
+    double surfaceMeanSquareSlope = 0;
     double sunZenith = 0;             // rad, in air
     double sunAzimuth = 0;            // rad, IR convention (counter-clockwise from east)
     double sunIrradiance = 0;         // on a plane normal to the beam, W m^-2 um^-1 (0: no sun)

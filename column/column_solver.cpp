@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "column/legendre.h"
+#include "column/rough_surface.h"
 #include "column/slab.h"
 #include "core/error.h"
 #include "core/units.h"
@@ -93,48 +95,72 @@ struct Setup {
     Streams s;
     std::vector<ScaledLayer> layers;
     Grid grid;
-    double mu0 = 1, beam0 = 0;  // refracted beam cosine; its flux through a horizontal plane at 0-
+    double mu0 = 1;  // the refracted beam's cosine through a flat surface
+    // The solar beam in the water: one beam (flat surface) or the sub-beams of a rough one; each
+    // with its cosine and its flux through a horizontal plane at 0-.
+    std::vector<SubBeam> beams;
+    std::optional<RoughSurfaceOperators> rough;
 };
 
-std::vector<double> beamAt(const Setup& st) {
-    std::vector<double> b;
-    for (double t : st.grid.tau) b.push_back(st.beam0 * std::exp(-t / st.mu0));
-    return b;
+// Flux of one beam through the horizontal plane at every grid plane.
+std::vector<double> beamAt(const Setup& st, const SubBeam& b) {
+    std::vector<double> v;
+    for (double t : st.grid.tau) v.push_back(b.flux * std::exp(-t / b.mu));
+    return v;
+}
+
+// The surface seen from below in mode m: its reflection of upwelling radiance, and the sky
+// radiance it lets in (n^2 law; mode 0 only).
+void surfaceFromBelow(const Setup& st, int m, Matrix* r, std::vector<double>* sky) {
+    const Streams& s = st.s;
+    const int n = s.size();
+    const double nw = st.col->waterIndex;
+    sky->assign(static_cast<size_t>(n), 0.0);
+    if (st.rough) {
+        *r = st.rough->reflectionFromBelow[static_cast<size_t>(m)];
+        if (m == 0)
+            for (int i = 0; i < n; ++i) (*sky)[static_cast<size_t>(i)] = st.col->skyRadiance * st.rough->skyTransmission[static_cast<size_t>(i)];
+        return;
+    }
+    // Flat: specular (mode-independent) reflection, total outside the Snell window.
+    std::vector<double> rs(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        const double rf = fresnelReflectance(s.mu[static_cast<size_t>(i)], nw, 1.0);
+        rs[static_cast<size_t>(i)] = rf;
+        if (m == 0 && rf < 1.0) (*sky)[static_cast<size_t>(i)] = st.col->skyRadiance * nw * nw * (1.0 - rf);
+    }
+    *r = Matrix::diagonal(rs);
 }
 
 // The diffuse field of Fourier mode m at every plane, by adding (see docs/column.md): composites of
 // everything above each plane (its reflectance for upwelling light, the downwelling radiance it
 // sends with a black column below) from the top down, of everything below (reflectance, upwelling
 // radiance per unit beam flux) from the bottom up, then the two joined at each plane.
-ModeField solveMode(const Setup& st, int m) {
+// `beamIn`: the beam whose sources are included (its flux times its mode-m azimuth factor); the sky
+// is included when `withSky`. The field is linear in both, so a rough surface's sub-beams are solved
+// one at a time and summed.
+ModeField solveMode(const Setup& st, int m, const SubBeam& beamIn, bool withSky) {
     const Streams& s = st.s;
     const int n = s.size();
     const Grid& g = st.grid;
     const size_t planes = g.z.size();
-    const std::vector<double> beam = beamAt(st);
+    const double mu0 = beamIn.mu;
+    std::vector<double> beam = beamAt(st, beamIn);
+    for (double& b : beam) b *= beamIn.modeFactor(m);
     std::map<std::pair<int, double>, SlabOperators> cache;
     auto slab = [&](size_t k) -> const SlabOperators& {
         const int li = g.layer[k];
         const double dz = g.z[k + 1] - g.z[k];
         auto it = cache.find({li, dz});
         if (it == cache.end())
-            it = cache.emplace(std::make_pair(li, dz), slabOperators(s, st.layers[static_cast<size_t>(li)].optics, m, st.mu0,
+            it = cache.emplace(std::make_pair(li, dz), slabOperators(s, st.layers[static_cast<size_t>(li)].optics, m, mu0,
                                                                       std::max(g.tau[k + 1] - g.tau[k], 1e-300))).first;
         return it->second;
     };
-    // Surface: specular (mode-independent) reflection of upwelling light, total inside the
-    // critical angle; the refracted sky (n^2 law) enters through the Snell window, mode 0 only.
-    const double nw = st.col->waterIndex;
-    std::vector<double> rs(static_cast<size_t>(n)), sky(static_cast<size_t>(n), 0.0);
-    for (int i = 0; i < n; ++i) {
-        const double r = fresnelReflectance(s.mu[static_cast<size_t>(i)], nw, 1.0);
-        rs[static_cast<size_t>(i)] = r;
-        if (m == 0 && r < 1.0) sky[static_cast<size_t>(i)] = st.col->skyRadiance * nw * nw * (1.0 - r);
-    }
     std::vector<Matrix> above(planes);
     std::vector<std::vector<double>> dAbove(planes);
-    above[0] = Matrix::diagonal(rs);
-    dAbove[0] = sky;
+    surfaceFromBelow(st, m, &above[0], &dAbove[0]);
+    if (!withSky) dAbove[0].assign(static_cast<size_t>(n), 0.0);
     const Matrix id = Matrix::identity(n);
     for (size_t k = 0; k + 1 < planes; ++k) {
         const SlabOperators& b = slab(k);
@@ -155,7 +181,7 @@ ModeField solveMode(const Setup& st, int m) {
                     below.back()(i, j) = 2.0 * st.col->bottomReflectance * s.w[static_cast<size_t>(j)] * s.mu[static_cast<size_t>(j)];
     } else {
         const int li = st.col->layerAt(g.z.back() + 1.0);
-        const SlabOperators inf = slabOperators(s, st.layers[static_cast<size_t>(li)].optics, m, st.mu0,
+        const SlabOperators inf = slabOperators(s, st.layers[static_cast<size_t>(li)].optics, m, mu0,
                                                 std::numeric_limits<double>::infinity());
         below.back() = inf.R;
         uBelow.back() = inf.su;
@@ -189,9 +215,9 @@ double h(double x, double d) { return x * d < 1e-8 ? d : -std::expm1(-x * d) / x
 //   dI = Int (E_b0/mu0) e^{-tau'/mu0} [omega'/(1 - f) p(Theta) - omega' p*(Theta)] e^{-|tau' - tau_k|/|mu|} dtau'/|mu|
 // along the line of sight within the water (scaled optical depths), layer by layer in closed form.
 // `mu` signed (> 0 travelling down), cosTheta the scattering angle from the refracted beam.
-double tmsCorrection(const Setup& st, size_t plane, double mu, double cosTheta) {
+double tmsCorrection(const Setup& st, const SubBeam& beam, size_t plane, double mu, double cosTheta) {
     const Grid& g = st.grid;
-    const double tk = g.tau[plane], u = std::abs(mu), a0 = 1 / st.mu0;
+    const double tk = g.tau[plane], u = std::abs(mu), a0 = 1 / beam.mu;
     std::map<int, double> kappa;
     auto coefficient = [&](int li) {
         auto it = kappa.find(li);
@@ -201,7 +227,7 @@ double tmsCorrection(const Setup& st, size_t plane, double mu, double cosTheta) 
         const auto pl = normalizedAssociatedLegendre(0, static_cast<int>(l.optics.chi.size()) - 1, cosTheta);
         for (size_t i = 0; i < l.optics.chi.size(); ++i) pStar += (2.0 * i + 1) * l.optics.chi[i] * pl[i];
         pStar /= 4 * kPi;
-        const double c = l.optics.omega * (l.phase->eval(cosTheta) / (1 - l.f) - pStar) * st.beam0 / st.mu0;
+        const double c = l.optics.omega * (l.phase->eval(cosTheta) / (1 - l.f) - pStar) * beam.flux / beam.mu;
         return kappa[li] = c;
     };
     double sum = 0;
@@ -232,10 +258,17 @@ double radianceAt(const Setup& st, const std::vector<ModeField>& modes, size_t k
         const auto& f = up ? modes[m].up[k] : modes[m].down[k];
         v += f[static_cast<size_t>(i)] * std::cos(static_cast<double>(m) * phi);
     }
-    if (tms && st.beam0 > 0) {
-        const double mu = st.s.mu[static_cast<size_t>(i)] * (up ? -1 : 1);
-        const double cosT = mu * st.mu0 + std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - st.mu0 * st.mu0))) * std::cos(phi);
-        v += tmsCorrection(st, k, mu, std::clamp(cosT, -1.0, 1.0));
+    // A rough surface's sub-beams spread in azimuth: TMS only where the scattering angle does not
+    // depend on it (straight up and straight down), docs/column.md.
+    if (!tms || (st.rough && i != st.s.nadir())) return v;
+    const double mu = st.s.mu[static_cast<size_t>(i)] * (up ? -1 : 1);
+    for (const SubBeam& b : st.beams) {
+        if (b.flux <= 0) continue;
+        for (size_t a = 0; a < b.psi.size(); ++a)
+            for (double sg : {-1.0, 1.0}) {
+                const double cosT = mu * b.mu + std::sqrt(std::max(0.0, (1 - mu * mu) * (1 - b.mu * b.mu))) * std::cos(phi - sg * b.psi[a]);
+                v += 0.5 * b.fraction[a] * tmsCorrection(st, b, k, mu, std::clamp(cosT, -1.0, 1.0));
+            }
     }
     return v;
 }
@@ -256,15 +289,26 @@ Setup makeSetup(const ColumnBand& col, const std::vector<double>& depths, const 
     st.grid = makeGrid(col, st.layers, depths);
     const double cosA = std::cos(col.sunZenith), sinW = std::sin(col.sunZenith) / col.waterIndex;
     st.mu0 = std::sqrt(1 - sinW * sinW);
-    if (col.sunIrradiance > 0 && cosA > 1e-6)
-        st.beam0 = col.sunIrradiance * cosA * (1 - fresnelReflectance(cosA, 1.0, col.waterIndex));
+    const bool sun = col.sunIrradiance > 0 && cosA > 1e-6;
+    if (col.surfaceMeanSquareSlope > 0) {
+        const int modes = o.radiance ? st.s.legendreOrder() : 1;
+        st.rough = roughSurfaceOperators(st.s, col.waterIndex, col.surfaceMeanSquareSlope, modes);
+        if (sun) st.beams = transmittedSun(col.sunZenith, col.sunIrradiance, col.waterIndex, col.surfaceMeanSquareSlope);
+    } else if (sun) {
+        st.beams.push_back({st.mu0, col.sunIrradiance * cosA * (1 - fresnelReflectance(cosA, 1.0, col.waterIndex)), {0.0}, {1.0}});
+    }
+    if (st.beams.empty()) st.beams.push_back({st.mu0, 0.0, {0.0}, {1.0}});  // the sky alone
     return st;
 }
 
 // Ed, Eu, Eod, Eou and Lu at the requested planes; K functions by finite differences in depth.
 void fillProfiles(const Setup& st, const std::vector<ModeField>& modes, const SolverOptions& o, ColumnResult* r) {
     const Streams& s = st.s;
-    const std::vector<double> beam = beamAt(st);
+    std::vector<double> beam(st.grid.tau.size(), 0.0), beamScalar(beam.size(), 0.0);
+    for (const SubBeam& b : st.beams) {
+        const std::vector<double> v = beamAt(st, b);
+        for (size_t k = 0; k < v.size(); ++k) beam[k] += v[k], beamScalar[k] += v[k] / b.mu;
+    }
     for (int k : st.grid.requested) {
         DepthResult d;
         d.depth = st.grid.z[static_cast<size_t>(k)];
@@ -272,7 +316,7 @@ void fillProfiles(const Setup& st, const std::vector<ModeField>& modes, const So
         const auto& up = modes[0].up[static_cast<size_t>(k)];
         d.EdDirect = beam[static_cast<size_t>(k)];
         d.Ed = d.EdDirect;
-        d.Eod = d.EdDirect / st.mu0;
+        d.Eod = beamScalar[static_cast<size_t>(k)];
         for (int i = 0; i < s.size(); ++i) {
             const double w = 2 * kPi * s.w[static_cast<size_t>(i)], mu = s.mu[static_cast<size_t>(i)];
             d.Ed += w * mu * dn[static_cast<size_t>(i)];
@@ -306,6 +350,19 @@ void fillRadiance(const Setup& st, const std::vector<ModeField>& modes, const So
     }
 }
 
+// Mode m's field: the sky with the first beam, then every further sub-beam, summed.
+ModeField solveModeAllBeams(const Setup& st, int m) {
+    ModeField f = solveMode(st, m, st.beams[0], true);
+    for (size_t b = 1; b < st.beams.size(); ++b) {
+        const ModeField g = solveMode(st, m, st.beams[b], false);
+        for (size_t k = 0; k < f.down.size(); ++k) {
+            f.down[k] = f.down[k] + g.down[k];
+            f.up[k] = f.up[k] + g.up[k];
+        }
+    }
+    return f;
+}
+
 }  // namespace
 
 ColumnResult solveColumn(const ColumnBand& col, const std::vector<double>& depths, const SolverOptions& o) {
@@ -313,7 +370,7 @@ ColumnResult solveColumn(const ColumnBand& col, const std::vector<double>& depth
     const Setup st = makeSetup(col, depths, o);
     const int modeCount = o.radiance ? st.s.legendreOrder() : 1;
     std::vector<ModeField> modes;
-    for (int m = 0; m < modeCount; ++m) modes.push_back(solveMode(st, m));
+    for (int m = 0; m < modeCount; ++m) modes.push_back(solveModeAllBeams(st, m));
     ColumnResult r;
     r.band = col.band;
     r.streams = st.s;
@@ -323,8 +380,11 @@ ColumnResult solveColumn(const ColumnBand& col, const std::vector<double>& depth
     r.EdAbove = (col.sunIrradiance > 0 ? col.sunIrradiance * std::max(0.0, std::cos(col.sunZenith)) : 0.0) + kPi * col.skyRadiance;
     // Water-leaving radiance toward the zenith: the nadir upwelling radiance just below, through
     // the surface (1 - r(0)), divided by n^2 (the radiance of a refracted pencil scales with n^2).
+    // Rough: 1 - r(0) becomes, by reciprocity, the transmittance of the rough surface for light from
+    // the zenith (Lu taken as constant over the few degrees the zenith ray gathers from).
     const double lu0 = radianceAt(st, modes, 0, st.s.nadir(), true, 0.0, o.tms);
-    r.LwNadir = lu0 * (1 - fresnelReflectance(1.0, col.waterIndex, 1.0)) / (col.waterIndex * col.waterIndex);
+    const double t0 = st.rough ? 1 - st.rough->reflectanceFromAirAtZenith : 1 - fresnelReflectance(1.0, col.waterIndex, 1.0);
+    r.LwNadir = lu0 * t0 / (col.waterIndex * col.waterIndex);
     r.Rrs = r.EdAbove > 0 ? r.LwNadir / r.EdAbove : 0.0;
     return r;
 }

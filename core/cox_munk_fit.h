@@ -48,6 +48,19 @@ template <> struct EnumNames<MicrofacetShadowing> {
         {M::None, "none"}, {M::SmithLight, "smith-light"}, {M::SmithSeparable, "smith-separable"}};
 };
 
+// Which form of Cox and Munk's clean-sea fit gives the slopes: the anisotropic upwind/crosswind
+// variances (the default), or the isotropic Gaussian of their separate fit to the total mean-square
+// slope, sigma^2 = 0.003 + 5.12e-3 U, shared equally between any two perpendicular directions
+// (which keeps the azimuthal Fourier modes of a plane-parallel solver uncoupled). The isotropic
+// form is published for the clean sea only.
+enum class CoxMunkSlopes { Anisotropic, Isotropic };
+
+template <> struct EnumNames<CoxMunkSlopes> {
+    static constexpr std::string_view what = "Cox-Munk slope distribution";
+    static constexpr EnumName<CoxMunkSlopes> table[] = {{CoxMunkSlopes::Anisotropic, "anisotropic"},
+                                                        {CoxMunkSlopes::Isotropic, "isotropic"}};
+};
+
 struct SlopeVariances {
     double upwind = 0, crosswind = 0;  // sigma_u^2, sigma_c^2
     double total() const { return upwind + crosswind; }
@@ -71,6 +84,23 @@ inline SlopeVariances coxMunkSlopeVariances(double windSpeed, CoxMunkSea sea) {
 // each of the three was fitted to the data on its own. The dissertation's Beaufort "RMS slope"
 // (surfaces/beaufort.h) is this total.
 inline double coxMunkCleanTotalMss(double windSpeed) { return 0.003 + 5.12e-3 * windSpeed; }
+
+// "" if the slope form can be used with this sea and Gram-Charlier choice; otherwise why not.
+inline std::string coxMunkSlopesProblem(CoxMunkSlopes slopes, CoxMunkSea sea, bool gramCharlier) {
+    if (slopes != CoxMunkSlopes::Isotropic) return "";
+    if (sea != CoxMunkSea::Clean)
+        return fmt::format("the isotropic form (sigma^2 = 0.003 + 0.00512 U) is Cox and Munk's clean-sea fit; it cannot "
+                           "be used with sea: {}", nameOf(sea));
+    if (gramCharlier) return "the Gram-Charlier terms are upwind/crosswind terms; the isotropic form has none";
+    return "";
+}
+
+// The variances of the chosen form: the isotropic one splits the total equally.
+inline SlopeVariances coxMunkSlopeVariances(double windSpeed, CoxMunkSea sea, CoxMunkSlopes slopes) {
+    if (slopes == CoxMunkSlopes::Anisotropic) return coxMunkSlopeVariances(windSpeed, sea);
+    const double half = 0.5 * coxMunkCleanTotalMss(windSpeed);
+    return {half, half};
+}
 
 // Gram-Charlier coefficients of the clean-sea fit (Cox & Munk 1954); no others are published here.
 struct GramCharlierCoefficients {

@@ -68,7 +68,7 @@ MaterialKind roughDielectric() {
                {"gram_charlier", "", ParamType::Boolean, 0.0, 0, 1, "",
                 "Cox and Munk's skewness and peakedness terms (clean sea only)"}}};
     k.type = T::RoughDielectric;
-    k.irKeys = {"sea", "shadowing"};
+    k.irKeys = {"sea", "slopes", "shadowing"};
     k.lobes = kReflection | kTransmission | kGlossy;
     k.defaultSolver = S::Fresnel;
     k.namedSolvers = {S::Fresnel};

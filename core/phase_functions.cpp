@@ -46,6 +46,22 @@ template <class F> double safeguardedNewton(F&& f, double lo, double hi, double 
     return x;
 }
 
+
+// Pure water (Morel 1974): p proportional to 1 + (1 - delta)/(1 + delta) cos^2 psi, delta the
+// depolarisation ratio of its molecular scattering; delta = 0.09 gives 1 + 0.835 cos^2. delta in
+// [0, 1] keeps the coefficient in [0, 1], the rayleigh kind's range.
+constexpr double kPureWaterDepolarization = 0.09;
+PhaseKind pureWaterKind() {
+    return {{"phase function", "pure-water",
+             "molecular scattering of pure (and sea) water, Morel (1974): p proportional to 1 + (1 - delta)/(1 + delta) "
+             "cos^2",
+             {{"depolarization_ratio", "", ParamType::Real, kPureWaterDepolarization, 0.0, 1.0, "",
+               "delta; 0.09 (Morel 1974) gives 1 + 0.835 cos^2"}}},
+            [](const ParamValues& v) {
+                const double d = v.number("depolarization_ratio");
+                return PhaseFunction::molecularWater((1.0 - d) / (1.0 + d));
+            }};
+}
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -797,6 +813,7 @@ const KindRegistry<PhaseKind>& phaseFunctionKinds() {
         r.add(petzoldKind());
         r.add(fournierForandKind());
         r.add(rayleighKind());
+        r.add(pureWaterKind());
         return r;
     }();
     return registry;

@@ -132,6 +132,7 @@ Json materialJson(const Material& m) {
     if (kind.uses("wind_speed_mps")) mj["wind_speed_mps"] = m.windSpeed;
     if (kind.uses("wind_azimuth_rad")) mj["wind_azimuth_rad"] = m.windAzimuth;
     if (kind.uses("sea")) mj["sea"] = nm(m.sea);
+    if (kind.uses("slopes") && m.slopes != CoxMunkSlopes::Anisotropic) mj["slopes"] = nm(m.slopes);
     if (kind.uses("gram_charlier")) mj["gram_charlier"] = m.gramCharlier;
     if (kind.uses("shadowing")) mj["shadowing"] = nm(m.shadowing);
     return mj;
@@ -508,6 +509,11 @@ void readMaterialTypeKeys(const JReader& m, const MaterialKind& kind, Material* 
         else throw InternalError("readMaterial: parameter '" + p.name + "' of " + kind.info.name + " is not read");
     }
     if (m.has("sea")) mt->sea = m["sea"].choice<CoxMunkSea>();
+    if (m.has("slopes")) {
+        mt->slopes = m["slopes"].choice<CoxMunkSlopes>();
+        if (const std::string why = coxMunkSlopesProblem(mt->slopes, mt->sea, mt->gramCharlier); !why.empty())
+            m["slopes"].fail(why);
+    }
     if (m.has("shadowing")) mt->shadowing = m["shadowing"].choice<MicrofacetShadowing>();
 }
 

@@ -114,6 +114,7 @@ struct Material {
     double windSpeed = 0.0;
     double windAzimuth = 0.0;
     CoxMunkSea sea = CoxMunkSea::Clean;
+    CoxMunkSlopes slopes = CoxMunkSlopes::Anisotropic;  // scene.json writes it only when isotropic
     bool gramCharlier = false;
     MicrofacetShadowing shadowing = MicrofacetShadowing::None;
     SourceLoc origin;  // where a scene file defined it (not serialised; for messages)

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/units.h"
 #include "pipelines/lib_svg_plot.h"
@@ -19,19 +20,31 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The surface must be flat: a wave mesh is not horizontally homogeneous, and the rough (Cox-Munk)
-// interface is not implemented in the column solver yet.
-void checkSurface(const scenegen::SceneSpec& spec) {
-    if (!spec.waterSurface) return;  // the default: flat
+// The surface must be flat: a wave mesh is not horizontally homogeneous. A Cox-Munk roughness is
+// taken in its isotropic form (slopes: isotropic), without shadowing (docs/column.md); the result is
+// the total mean-square slope, 0 for a flat surface.
+double checkSurface(const scenegen::SceneSpec& spec, std::vector<std::string>* notes) {
+    if (!spec.waterSurface) return 0.0;  // the default: flat
     const scenegen::YamlNode& s = *spec.waterSurface;
     const surfaces::WaveParams w = scenegen::parseWaterSurface(s);
     if (w.model != surfaces::WaveModel::Flat)
         (s.has("model") ? s["model"] : s)
             .fail(fmt::format("littoral column needs a flat surface (model: flat); model {} makes a wave mesh, which is "
                               "not horizontally homogeneous", surfaces::waveModelName(w.model)));
-    if (s.has("roughness"))
-        s["roughness"].fail("littoral column does not implement the Cox-Munk rough surface yet; remove 'roughness' "
-                            "(a flat Fresnel surface) or use littoral run");
+    const auto rough = scenegen::parseSurfaceRoughness(s, w, "interface");
+    if (!rough) return 0.0;
+    const scenegen::YamlNode r = s["roughness"];
+    if (rough->slopes != CoxMunkSlopes::Isotropic)
+        (r.has("slopes") ? r["slopes"] : r)
+            .fail("littoral column solves the isotropic Cox-Munk surface only: give slopes: isotropic (sigma^2 = 0.003 + "
+                  "0.00512 U); the anisotropic upwind/crosswind distribution couples the azimuthal Fourier modes, which "
+                  "the column solves one at a time (use littoral run for it)");
+    if (rough->shadowing != MicrofacetShadowing::None)
+        r["shadowing"].fail("littoral column's rough surface has no shadowing term (each ray meets one facet and keeps "
+                            "its energy, docs/column.md); remove 'shadowing' or give shadowing: none");
+    notes->push_back(fmt::format("rough surface: isotropic Cox-Munk slopes, U = {} m/s, sigma^2 = {:.5f}; wind direction "
+                                 "ignored (isotropic)", rough->windSpeed, coxMunkCleanTotalMss(rough->windSpeed)));
+    return coxMunkCleanTotalMss(rough->windSpeed);
 }
 
 // No bottom (infinitely deep), or a flat planar_slope of a lambertian or black material.
@@ -71,7 +84,6 @@ void checkColumnScene(const scenegen::SceneSpec& spec, std::vector<std::string>*
     if (spec.objects) spec.objects->fail("littoral column cannot place objects: they break horizontal homogeneity");
     if (spec.textureClasses)
         spec.textureClasses->fail("littoral column takes one bottom material; texture classes vary it horizontally");
-    checkSurface(spec);
     if (!spec.sensors.empty())
         notes->push_back(fmt::format("{} sensor(s) ignored: the column writes profiles and radiance tables, not images",
                                      spec.sensors.size()));
@@ -116,6 +128,7 @@ ColumnScene columnScene(const scenegen::SceneSpec& spec, const ColumnOptions& o)
     ColumnScene cs;
     cs.name = spec.scene.name;
     checkColumnScene(spec, &cs.notes);
+    const double mss = checkSurface(spec, &cs.notes);
     const column::IrBottom bottom = checkBottom(spec);
     ir::SceneIR ir;
     scenegen::applyCommonSections(spec, &ir);
@@ -123,6 +136,7 @@ ColumnScene columnScene(const scenegen::SceneSpec& spec, const ColumnOptions& o)
     for (size_t b = 0; b < ir.render.bands.size(); ++b) {
         try {
             cs.bands.push_back(column::columnBandFromIr(ir, spec.waterLevel, bottom, static_cast<int>(b)));
+            cs.bands.back().surfaceMeanSquareSlope = mss;
         } catch (const InputError& e) {
             if (!e.where().file.empty()) throw;
             throw InputError(SourceLoc{spec.file.string()}, e.message());

@@ -93,7 +93,9 @@ CoxMunkDistribution::CoxMunkDistribution(const CoxMunkParams& p, const SourceLoc
         throw InputError(where, fmt::format("Gram-Charlier terms are published for the clean sea only (Cox & Munk "
                                             "1954); they cannot be used with the {} coefficients; allowed with: clean",
                                             nameOf(p.sea)));
-    const SlopeVariances v = coxMunkSlopeVariances(p.windSpeed, p.sea);
+    if (const std::string why = coxMunkSlopesProblem(p.slopes, p.sea, p.gramCharlier); !why.empty())
+        throw InputError(where, why);
+    const SlopeVariances v = coxMunkSlopeVariances(p.windSpeed, p.sea, p.slopes);
     *this = fromVariances(v.upwind, v.crosswind, p.windAzimuth);
     if (p.gramCharlier) {
         gc_ = true;

@@ -129,6 +129,7 @@ MaterialData makeMaterial(const ir::Material& m, const std::vector<Band>& bands,
             p.windSpeed = m.windSpeed;
             p.windAzimuth = 0.0;
             p.sea = m.sea;
+            p.slopes = m.slopes;
             p.gramCharlier = m.gramCharlier;
             try {
                 d.slopes.emplace(p, m.origin, "wind_speed");

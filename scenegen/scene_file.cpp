@@ -415,12 +415,15 @@ void checkOneMediumModel(const YamlNode& n) {
 }
 
 // A `constituents:` map: its numeric keys from the constituents model's descriptor
-// (water_constituents.h), `pure_water` and `particle_phase` (read by the caller) besides.
+// (water_constituents.h), `pure_water` and the phase functions of its scatterers besides:
+// `pure_water_phase`, `particle_phase` (phytoplankton and sediment) and `phytoplankton_phase`,
+// `sediment_phase` (each overriding particle_phase for its constituent). A phase function of a
+// constituent that is absent, or a particle_phase both others override, is refused (not used).
 WaterComposition parseConstituents(const YamlNode& c) {
     const MediumModelKind& model = *mediumModelKinds().find("constituents");
     std::vector<std::string> keys = {"pure_water"};
     for (const ParamSpec& p : model.info.params) keys.push_back(p.name);
-    keys.push_back("particle_phase");
+    for (const char* k : {"pure_water_phase", "particle_phase", "phytoplankton_phase", "sediment_phase"}) keys.push_back(k);
     c.expectKeys(keys);
     WaterComposition comp;
     const std::string pw = c.getEnum("pure_water", "sea", {"sea", "fresh", "none"});
@@ -431,7 +434,46 @@ WaterComposition parseConstituents(const YamlNode& c) {
         const auto v = c.optional(p.name);
         comp.*model.fields[i] = numberOf(v ? parseParam(*v, p) : p.defaultValue ? p.defaultParamValue() : parseParam(c[p.name], p));
     }
+    auto phaseOf = [&](const char* key, bool present, const char* why) -> std::optional<ir::PhaseFunction> {
+        const auto n = c.optional(key);
+        if (!n) return std::nullopt;
+        if (!present) n->fail(fmt::format("not used: {}", why));
+        return parsePhase(*n);
+    };
+    if (auto p = phaseOf("pure_water_phase", comp.includePureWater, "pure_water is none (no pure water)")) comp.pureWaterPhase = *p;
+    const bool phyto = comp.chlorophyllMgM3 > 0, sediment = comp.sedimentGM3 > 0;
+    if (c.has("particle_phase") && c.has("phytoplankton_phase") && c.has("sediment_phase"))
+        c["particle_phase"].fail("not used: phytoplankton_phase and sediment_phase both replace it");
+    if (auto p = c.optional("particle_phase")) comp.phytoplanktonPhase = comp.sedimentPhase = parsePhase(*p);
+    if (auto p = phaseOf("phytoplankton_phase", phyto, "chlorophyll_mg_m3 is 0 (no phytoplankton)")) comp.phytoplanktonPhase = *p;
+    if (auto p = phaseOf("sediment_phase", sediment, "sediment_g_m3 is 0 (no sediment)")) comp.sedimentPhase = *p;
     return comp;
+}
+
+// `scatterers:` (the explicit model): a list of {name, scattering_per_m, phase}, each scatterer
+// with its own b(lambda) and phase function (default HG g = 0.88), mixed by the renderer and the
+// column solver as sum b_i p_i / sum b_i. At most PhaseFunction::kMaxComponents (the mixture's size).
+void parseScatterers(const YamlNode& list, LayerOptics* o) {
+    std::set<std::string> names;
+    for (const auto& it : list.items()) {
+        it.expectKeys({"name", "scattering_per_m", "phase"});
+        ir::Scatterer sc;
+        sc.name = it["name"].asString();
+        if (sc.name.empty() || !names.insert(sc.name).second)
+            it["name"].fail(sc.name.empty() ? "give the scatterer a name" : "scatterer '" + sc.name + "' is listed twice");
+        sc.scattering = parseSpectrum(it["scattering_per_m"], 0, 1000, "m^-1");
+        sc.phase = {"henyey-greenstein", {{"g", 0.88}}};
+        if (auto ph = it.optional("phase")) {
+            sc.phase = parsePhase(*ph);
+            o->phaseGiven = true;
+            o->phaseKey = "scatterers[].phase";
+        }
+        if (!(sc.scattering.isConstant() && sc.scattering.values()[0] == 0.0)) o->scatterers.push_back(std::move(sc));
+    }
+    if (names.empty()) list.fail("list at least one scatterer");
+    if (names.size() > static_cast<size_t>(PhaseFunction::kMaxComponents))
+        list.fail(fmt::format("{} scatterers; at most {} per layer (the phase-function mixture holds {})", names.size(),
+                              PhaseFunction::kMaxComponents, PhaseFunction::kMaxComponents));
 }
 
 // The IOP keys shared by water.optics and each of its layers: a preset, a constituent mix, or
@@ -450,7 +492,11 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
                 o->scatterers.push_back({c.name, c.scattering, c.phase});
     } else if (auto c = n.optional("constituents")) {
         WaterComposition comp = parseConstituents(*c);
-        if (auto pp = c->optional("particle_phase")) comp.phytoplanktonPhase = comp.sedimentPhase = parsePhase(*pp);
+        if (n.has("phase"))
+            for (const char* k : {"pure_water_phase", "particle_phase", "phytoplankton_phase", "sediment_phase"})
+                if (c->has(k))
+                    (*c)[k].fail(fmt::format("not used: 'phase' beside 'constituents' replaces the phase function of "
+                                             "every constituent; give '{}' or 'phase', not both", k));
         WaterIops w;
         try {
             w = computeIops(comp, constituentGrid(bands));
@@ -464,7 +510,11 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
                 o->scatterers.push_back({k.name, k.scattering, k.phase});
     } else {
         if (auto a = n.optional("absorption_per_m")) o->absorption = parseSpectrum(*a, 0, 1000, "m^-1");
-        if (auto b = n.optional("scattering_per_m")) {
+        if (auto l = n.optional("scatterers")) {
+            for (const char* k : {"scattering_per_m", "phase"})
+                if (n.has(k)) n[k].fail(fmt::format("give '{}' of each scatterer under 'scatterers', not beside it", k));
+            parseScatterers(*l, o);
+        } else if (auto b = n.optional("scattering_per_m")) {
             const Spectrum sb = parseSpectrum(*b, 0, 1000, "m^-1");
             if (!(sb.isConstant() && sb.values()[0] == 0.0))
                 o->scatterers.push_back({"particles", sb, {"henyey-greenstein", {{"g", 0.88}}}});
@@ -474,6 +524,7 @@ void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o
         const ir::PhaseFunction f = parsePhase(*ph);
         for (auto& sc : o->scatterers) sc.phase = f;
         o->phaseGiven = true;
+        o->phaseKey = "phase";
     }
 }
 
@@ -486,19 +537,20 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
     auto& o = spec->waterOptics;
     if (auto op = n.optional("optics")) {
         o.loc = op->loc();
-        op->expectKeys({"preset", "constituents", "refractive_index", "absorption_per_m", "scattering_per_m", "phase",
-                        "interface", "layers", "solver"});
+        op->expectKeys({"preset", "constituents", "refractive_index", "absorption_per_m", "scattering_per_m", "scatterers",
+                        "phase", "interface", "layers", "solver"});
         if (auto sv = op->optional("solver")) {
             o.solver = sv->asEnum(allNames<ir::Medium::Solver>());
             o.solverLoc = sv->loc();
         }
         if (auto ri = op->optional("refractive_index")) o.refractiveIndex = parseSpectrum(*ri, 1.0, 3.0, "");
         if (auto ls = op->optional("layers")) {
-            for (const char* k : {"preset", "constituents", "absorption_per_m", "scattering_per_m", "phase"})
+            for (const char* k : {"preset", "constituents", "absorption_per_m", "scattering_per_m", "scatterers", "phase"})
                 if (op->has(k)) (*op)[k].fail("give the IOPs of each layer under 'layers', not beside it");
             double expectTop = 0;
             for (const auto& it : ls->items()) {
-                it.expectKeys({"depth_m", "preset", "constituents", "absorption_per_m", "scattering_per_m", "phase"});
+                it.expectKeys({"depth_m", "preset", "constituents", "absorption_per_m", "scattering_per_m", "scatterers",
+                               "phase"});
                 const auto d = it["depth_m"].asDoubleList(0, 1e5, "m");
                 if (d.size() != 2 || !(d[1] > d[0])) it["depth_m"].fail("expected [top, bottom] depths with top < bottom");
                 if (d[0] != expectTop)
@@ -721,10 +773,11 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver.empty())
             for (const LayerOptics* l : all)
                 if (l->phaseGiven)
-                    throw InputError(l->loc, "water.optics phase: not used: the dirsig estimator treats scattering "
-                                             "as loss (Beer–Lambert with c = a + b) unless water.optics.solver is "
-                                             "medium-pm; use render.estimator: path, the medium-pm solver, or remove "
-                                             "'phase'");
+                    throw InputError(l->loc, fmt::format("water.optics {}: not used: the dirsig estimator treats "
+                                                         "scattering as loss (Beer–Lambert with c = a + b) unless "
+                                                         "water.optics.solver is medium-pm; use render.estimator: path, "
+                                                         "the medium-pm solver, or remove '{}'",
+                                                         l->phaseKey, l->phaseKey));
     }
     if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
     // Without a sky section the radiance is the constant 0 (docs/scene-format.md): nothing to cover.

@@ -91,7 +91,9 @@ struct MaterialSection {
 struct LayerOptics {
     Spectrum absorption = Spectrum::constant(0.0);  // m^-1
     std::vector<ir::Scatterer> scatterers;
-    bool phaseGiven = false;     // `phase` was written in the file (not the default)
+    bool phaseGiven = false;     // `phase` or a scatterer's phase was written in the file (not the default)
+    std::string phaseKey;        // which: "phase" or "scatterers[].phase"
+
     std::string preset;          // the named IOP set used, if any
     SourceLoc loc;
 };

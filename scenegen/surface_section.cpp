@@ -156,7 +156,7 @@ std::optional<ir::Material> parseSurfaceRoughness(const YamlNode& n, const surfa
                                                   const std::string& name) {
     const auto r = n.optional("roughness");
     if (!r) return std::nullopt;
-    r->expectKeys({"model", "wind_speed", "wind_from_deg", "sea", "gram_charlier", "shadowing"});
+    r->expectKeys({"model", "wind_speed", "wind_from_deg", "sea", "slopes", "gram_charlier", "shadowing"});
     r->getEnum("model", "cox-munk", {"cox-munk"});
     ir::Material m;
     m.name = name;
@@ -189,6 +189,8 @@ std::optional<ir::Material> parseSurfaceRoughness(const YamlNode& n, const surfa
         (*r)["gram_charlier"].fail(fmt::format("Cox and Munk published Gram-Charlier coefficients for the clean sea "
                                                "only; this roughness has sea: {}",
                                                nameOf(m.sea)));
+    m.slopes = *parseName<CoxMunkSlopes>(r->getEnum("slopes", "anisotropic", allNames<CoxMunkSlopes>()));
+    if (const std::string why = coxMunkSlopesProblem(m.slopes, m.sea, m.gramCharlier); !why.empty()) (*r)["slopes"].fail(why);
     m.shadowing = *parseName<MicrofacetShadowing>(r->getEnum("shadowing", "none", allNames<MicrofacetShadowing>()));
     return m;
 }

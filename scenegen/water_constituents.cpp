@@ -236,7 +236,7 @@ WaterIops computeIops(const WaterComposition& c, const std::vector<double>& wls,
         out.components.push_back(
             {"pure water", tab("pure-water absorption", [](double w) { return pureWaterAbsorption(w); }),
              tab("pure-water scattering", [&](double w) { return pureWaterScattering(w, c.water); }),
-             ir::PhaseFunction{"rayleigh", {{"k", kMolecularPhaseK}}},
+             c.pureWaterPhase,
              c.water == WaterKind::Sea ? "Pope and Fry (1997); Morel (1974) sea water" : "Pope and Fry (1997); Morel (1974) fresh water"});
     if (c.chlorophyllMgM3 > 0)
         out.components.push_back(
@@ -433,9 +433,10 @@ const KindRegistry<MediumModelKind>& mediumModelKinds() {
         KindRegistry<MediumModelKind> r("medium model");
         r.add({{"medium model", "preset", "a named IOP table (the water presets)", {}}, {"preset"}, {}});
         r.add(constituentsKind());
-        r.add({{"medium model", "explicit", "absorption and scattering given directly as spectra (m^-1); scatterers "
-                                            "get HG g = 0.88 unless phase is given", {}},
-               {"absorption_per_m", "scattering_per_m"}, {}});
+        r.add({{"medium model", "explicit", "absorption and scattering given directly as spectra (m^-1): one "
+                                            "scatterer (HG g = 0.88 unless phase is given), or a list of scatterers, "
+                                            "each with its own b and phase function", {}},
+               {"absorption_per_m", "scattering_per_m", "scatterers"}, {}});
         for (const MediumModelKind& k : r.kinds())
             if (k.fields.size() != k.info.params.size())
                 throw InternalError("medium model '" + k.info.name + "': its fields do not match its parameters");

@@ -9,8 +9,9 @@
 //                           paper's title). Outside it: InputError.
 //   pure water scattering   Morel (1974): b_w(lambda) = b_w(500 nm) (lambda/500 nm)^-4.32 with
 //                           b_w(500) = 0.00222 m^-1 (fresh) or 0.00288 m^-1 (sea water,
-//                           S = 35-39, 1.30 x fresh). Molecular phase function: Rayleigh-like
-//                           1 + 0.835 cos^2 (depolarisation ratio 0.09), not isotropic.
+//                           S = 35-39, 1.30 x fresh). Molecular phase function: the pure-water
+//                           kind, 1 + (1 - d)/(1 + d) cos^2 with depolarisation ratio d = 0.09
+//                           (1 + 0.835 cos^2), not isotropic.
 //   phytoplankton           absorption: Bricaud et al. (1998), J. Geophys. Res. 103, 31033:
 //                           a_ph = A(lambda) Chl^E(lambda), their 2-nm table over 400-700 nm;
 //                           scattering: Gordon and Morel (1983): b_p(550) = 0.30 Chl^0.62 m^-1
@@ -47,7 +48,7 @@ namespace littoral::scenegen {
 
 inline constexpr double kPopeFryMinUm = 0.380, kPopeFryMaxUm = 0.700;
 inline constexpr double kBricaudMinUm = 0.400, kBricaudMaxUm = 0.700;
-inline constexpr double kMolecularPhaseK = 0.835;  // Morel (1974)
+inline constexpr double kPureWaterDepolarization = 0.09;  // Morel (1974): (1 - 0.09)/(1 + 0.09) = 0.835
 
 enum class WaterKind { Fresh, Sea };
 
@@ -77,6 +78,8 @@ struct WaterComposition {
     bool includePureWater = true;
     WaterKind water = WaterKind::Sea;
     MineralModel mineral;
+    // Morel (1974): depolarisation ratio 0.09, p proportional to 1 + 0.835 cos^2.
+    ir::PhaseFunction pureWaterPhase{"pure-water", {{"depolarization_ratio", kPureWaterDepolarization}}};
     ir::PhaseFunction phytoplanktonPhase{"petzold", {}};
     ir::PhaseFunction sedimentPhase{"petzold", {}};
 };

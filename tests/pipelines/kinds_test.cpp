@@ -923,10 +923,11 @@ TEST(KindDescriptors, DocsListExactlyTheSensorTypesAndMediumModels) {
     }
     EXPECT_EQ(models, mediumModelKinds().names());
 
-    // The constituents model: its parameters with default and range, and the two keys that are
-    // not numbers (read by the parser itself).
+    // The constituents model: its parameters with default and range, and the keys that are not
+    // numbers (read by the parser itself: the choice of pure water and the phase functions).
     const KindInfo& constituents = mediumModelKinds().find("constituents")->info;
-    std::set<std::string> keys, declared = {"pure_water", "particle_phase"};
+    std::set<std::string> keys, declared = {"pure_water", "pure_water_phase", "particle_phase", "phytoplankton_phase",
+                                            "sediment_phase"};
     for (const auto& row : docsTable("medium model constituents")) {
         keys.insert(row[0]);
         if (const ParamSpec* p = constituents.param(row[0])) {

@@ -93,7 +93,7 @@ TEST(WaterConstituents, CompositionSumsComponents) {
     }
     const auto weights = w.phaseWeightsAt(0.5);
     ASSERT_EQ(weights.size(), 3u);  // CDOM does not scatter
-    EXPECT_EQ(weights[0].second, (ir::PhaseFunction{"rayleigh", {{"k", kMolecularPhaseK}}}));
+    EXPECT_EQ(weights[0].second, (ir::PhaseFunction{"pure-water", {{"depolarization_ratio", kPureWaterDepolarization}}}));
     EXPECT_EQ(weights[1].second, (ir::PhaseFunction{"petzold", {}}));
     double sum = 0;
     for (const auto& [bi, p] : weights) sum += bi;
