@@ -216,3 +216,62 @@ TEST(SceneFile, SunFromDateTimeUsesSolarPosition) {
                              replaceOnce(kValid, "  zenith_deg: 30\n  azimuth_deg: 315\n", "  date_time_utc: 17/10/2003 19:30\n"));
     EXPECT_NE(bad.find("expected an ISO 8601 UTC time"), std::string::npos) << bad;
 }
+
+// Issue 19 section 3: each scatterer of a layer given by coefficients has its own phase function;
+// each constituent can have its own; pure water's phase function takes its depolarisation ratio.
+TEST(SceneFile, EachScattererKeepsItsOwnPhaseFunction) {
+    const std::string head = "scene: {name: s}\nwater:\n  optics:\n";
+    const auto spec = loadSceneFile(writeScene(
+        "scatterers.yaml",
+        head + "    absorption_per_m: 0.05\n    scatterers:\n"
+               "      - {name: water, scattering_per_m: 0.0029, phase: {type: pure-water, depolarization_ratio: 0.2}}\n"
+               "      - {name: particles, scattering_per_m: 0.25, phase: {type: petzold}}\n"
+               "render: {estimator: path}\n"));
+    const auto& sc = spec.waterOptics.iops.scatterers;
+    ASSERT_EQ(sc.size(), 2u);
+    EXPECT_EQ(sc[0].name, "water");
+    EXPECT_EQ(sc[0].phase.type, "pure-water");
+    EXPECT_EQ(sc[0].phase.params.number("depolarization_ratio"), 0.2);
+    EXPECT_EQ(sc[1].phase.type, "petzold");
+    EXPECT_EQ(sc[1].scattering.at(0.5), 0.25);
+    // Constituents: pure water defaults to pure-water (0.09); phytoplankton and sediment each their own.
+    const auto c = loadSceneFile(writeScene(
+        "constituents.yaml",
+        head + "    constituents: {chlorophyll_mg_m3: 1, sediment_g_m3: 2, particle_phase: {type: petzold},\n"
+               "                   sediment_phase: {type: fournier-forand, backscatter_fraction: 0.02}}\n"));
+    const auto& k = c.waterOptics.iops.scatterers;
+    ASSERT_EQ(k.size(), 3u);
+    EXPECT_EQ(k[0].phase.type, "pure-water");
+    EXPECT_EQ(k[0].phase.params.number("depolarization_ratio"), 0.09);
+    EXPECT_EQ(k[1].phase.type, "petzold");
+    EXPECT_EQ(k[2].phase.type, "fournier-forand");
+}
+
+// What cannot be honoured is refused at its key (line:column of the offending node).
+TEST(SceneFile, PhaseFunctionsThatCannotBeHonouredAreRefusedWhereTheyAreWritten) {
+    const std::string head = "scene: {name: s}\nwater:\n  optics:\n";
+    struct Case {
+        std::string text, message;
+        int line, column;
+    };
+    const Case cases[] = {
+        {head + "    constituents: {pure_water: none, pure_water_phase: {type: rayleigh}}\n", "pure_water is none", 4, 56},
+        {head + "    constituents: {phytoplankton_phase: {type: petzold}}\n", "chlorophyll_mg_m3 is 0", 4, 41},
+        {head + "    constituents: {chlorophyll_mg_m3: 1, particle_phase: {type: petzold}}\n    phase: {type: isotropic}\n",
+         "'phase' beside 'constituents' replaces", 4, 58},
+        {head + "    constituents: {pure_water_phase: {type: pure-water, depolarization_ratio: 1.5}}\n",
+         "1.5 is out of range; allowed [0, 1]", 4, 79},
+        {head + "    scattering_per_m: 0.1\n    scatterers: [{name: a, scattering_per_m: 0.1}]\n", "not beside it", 4, 23},
+        {head + "    scatterers: [{name: a, scattering_per_m: 0.1}, {name: a, scattering_per_m: 0.2}]\n", "listed twice", 4, 59},
+        {head + "    scatterers: [{name: a, scattering_per_m: 0.1}, {name: b, scattering_per_m: 0.1}, {name: c, "
+                "scattering_per_m: 0.1}, {name: d, scattering_per_m: 0.1}, {name: e, scattering_per_m: 0.1}]\n",
+         "at most 4 per layer", 4, 17},
+        {head + "    scatterers: [{name: a, scattering_per_m: 0.1, phase: {type: petzold}}]\n",
+         "scatterers[].phase: not used: the dirsig estimator", 4, 5},
+    };
+    for (const Case& c : cases) {
+        const std::string msg = errorOf("refused.yaml", c.text);
+        EXPECT_NE(msg.find(c.message), std::string::npos) << c.text << "\n" << msg;
+        expectLocation(msg, "refused.yaml", c.line, c.column);
+    }
+}
