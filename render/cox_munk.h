@@ -62,8 +62,8 @@ struct CoxMunkParams {
     double windSpeed = 5.0;    // m/s at 12.5 m
     double windAzimuth = 0.0;  // radians from local +x to the direction the wind blows toward
     CoxMunkSea sea = CoxMunkSea::Clean;
-    CoxMunkSlopes slopes = CoxMunkSlopes::Anisotropic;  // isotropic: clean sea, no Gram-Charlier
     bool gramCharlier = false;  // clean sea only
+    CoxMunkSlopes slopes = CoxMunkSlopes::Anisotropic;  // isotropic: clean sea, no Gram-Charlier
 };
 
 class CoxMunkDistribution {

@@ -318,6 +318,21 @@ EmbreeScene::EmbreeScene(const ir::SceneIR& ir) : impl_(std::make_unique<Impl>()
 
 EmbreeScene::~EmbreeScene() = default;
 
+void EmbreeScene::forEachTriangle(
+    const std::function<void(int, int, uint32_t, const Point3&, const Point3&, const Point3&)>& f) const {
+    const Impl& s = *impl_;
+    auto placed = [&](int inst, int mesh) {
+        const TriMesh* m = s.meshes[static_cast<size_t>(mesh)].mesh;
+        if (!m) return;
+        for (uint32_t fi = 0; fi < m->triangles.size(); ++fi) {
+            const auto& t = m->triangles[fi];
+            f(mesh, inst, fi, s.worldVertex(inst, *m, t[0]), s.worldVertex(inst, *m, t[1]), s.worldVertex(inst, *m, t[2]));
+        }
+    };
+    for (size_t mi = 0; mi < s.meshes.size(); ++mi) placed(-1, static_cast<int>(mi));
+    for (size_t ii = 0; ii < s.instances.size(); ++ii) placed(static_cast<int>(ii), s.instances[ii].mesh);
+}
+
 bool EmbreeScene::intersect(const Ray& r, SurfaceHit* hit) const {
     const Impl& s = *impl_;
     ++tlsCounts.cast;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -88,6 +89,10 @@ public:
     bool occluded(const Ray& r) const;
 
     BBox3 bounds() const;             // world bounds of all geometry (instances included)
+    // Calls f(mesh, instance, face, a, b, c) for every triangle where the BVH places it, in world
+    // coordinates: each mesh's own placement (instance -1), then each instance.
+    void forEachTriangle(
+        const std::function<void(int, int, uint32_t, const Point3&, const Point3&, const Point3&)>& f) const;
     uint64_t triangleCount() const;   // instanced triangles counted per instance
     bool empty() const;
 

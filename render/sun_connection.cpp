@@ -50,6 +50,15 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
             break;
         }
     }
+    // Facet beams into every denser medium that is not under a rough interface.
+    beams_.resize(nm);
+    const SunSource& sun = scene.sun();
+    for (size_t m = 0; m < nm && sun.enabled; ++m) {
+        if (skyMedium(static_cast<int>(m)) || roughSunMaterial_[m] >= 0) continue;
+        auto b = std::make_unique<FacetBeams>(scene, static_cast<int>(m), scene.media()[m].n(group.begin), sun.direction,
+                                              sun.halfAngle);
+        if (!b->empty() && !b->hasObjects()) beams_[m] = std::move(b);
+    }
 }
 
 Spec SunConnection::bandValues(const std::vector<double>& v) const {
@@ -207,7 +216,88 @@ SunBeam SunConnection::along(const Point3& p, const Normal3& ng, const Vec3& dir
         const double pdf = roughProto_[static_cast<size_t>(medium)]->pdfTransmission(F.toLocal(ws), F.toLocal(-dir));
         return roughAlong(p, ng, dir, medium, ws, pdf);
     }
+    if (const FacetBeams* fb = beamsInto(medium)) {
+        // Traced to the facet above; the beams that contain p for the disc direction it sends light
+        // from give the density with which sample() picks this one.
+        Vec3 out;
+        SunBeam b = beamAlong(p, ng, dir, medium, -1, 1, &out);
+        if (!b.valid) return b;
+        b.pdf /= std::max(1, fb->forEachContaining(p, out, [](int, const Vec3&, double) {}));
+        b.E = b.L * (1.0 / b.pdf);
+        return b;
+    }
     return smoothAlong(p, ng, dir, medium);
+}
+
+int SunConnection::firstSurface(Ray r, int m, SurfaceHit* h, Spec* atten) const {
+    *atten = Spec(group_.count, 1.0);
+    const bool attenuating = scene_.media()[static_cast<size_t>(m)].attenuating();
+    for (int wraps = 0;;) {
+        if (!scene_.geometry().intersect(r, h)) return 0;
+        if (attenuating) *atten *= transmittance(r, h->t, m);
+        if (!scene_.isPeriodicWall(*h)) return 1;
+        const auto next = scene_.wrapRay(*h, r.d);
+        if (!next || ++wraps > Scene::kMaxWraps) return -1;
+        r = *next;
+    }
+}
+
+SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int facet,
+                                 int beams, Vec3* outAir) const {
+    SurfaceHit h;
+    Spec atten;
+    if (firstSurface(spawnRay(p, ng, dir), medium, &h, &atten) != 1) return none();
+    if (facet >= 0) {
+        const BeamFacet& f = beamsInto(medium)->facet(facet);
+        if (h.mesh != f.mesh || h.instance != f.instance || h.face != f.face) return none();  // in its shadow
+    }
+    const MaterialData& mat = scene_.material(h);
+    const int farM = scene_.farMedium(h);
+    if (!mat.isInterface() || mat.isRough() || scene_.nearMedium(h) != medium || !skyMedium(farM)) return none();
+    const SunSource& sun = scene_.sun();
+    const double nm = scene_.media()[static_cast<size_t>(medium)].n(group_.begin);
+    const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
+    const double cosW = std::abs(dot(dir, nf));
+    Vec3 out;
+    if (!refract(-dir, nf, nm, &out)) return none();  // total internal reflection at this facet
+    out = normalize(out);
+    // sample() chose dir so that it leaves toward its disc point; along()'s dir must find the disc.
+    if (facet < 0 && !sun.inDisc(out)) return none();
+    if (outAir) *outAir = out;
+    // The air above the facet must be clear: light through anything else is another chain.
+    SurfaceHit above;
+    Spec unused;
+    if (firstSurface(spawnRay(h.p, h.ng, out), farM, &above, &unused) != 0) return none();
+    const double cosA = std::abs(dot(out, nf));
+    // Beam irradiance E_sun T cosA / cosW (the facet's area seen by the sun over the beam's cross
+    // section), spread over the disc's solid angle compressed by cosA / (n^2 cosW) (etendue).
+    const double geom = (1.0 - fresnelDielectric(cosW, nm, 1.0)) * cosA / cosW;
+    const double solidAngle = sun.solidAngle * cosA / (nm * nm * cosW);
+    SunBeam beam = none();
+    for (int i = 0; i < group_.count; ++i) beam.L[i] = sun.irradiance[group_.begin + i] * geom * atten[i] / solidAngle;
+    beam.toSun = dir;
+    beam.pdf = 1.0 / (std::max(beams, 1) * solidAngle);
+    beam.E = beam.L * (1.0 / beam.pdf);
+    beam.valid = true;
+    return beam;
+}
+
+SunBeam SunConnection::beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
+                                  double uPick) const {
+    const FacetBeams& fb = *beamsInto(medium);
+    const int beams = fb.forEachContaining(p, ws, [](int, const Vec3&, double) {});
+    if (beams == 0) return none();
+    // One of the beams, uniformly: the estimate is weighted by their number (beamAlong).
+    const int pick = std::min(beams - 1, static_cast<int>(uPick * beams));
+    int k = 0, facet = -1;
+    Vec3 d;
+    fb.forEachContaining(p, ws, [&](int f, const Vec3& df, double) {
+        if (k++ == pick) facet = f, d = df;
+    });
+    if (facet < 0) return none();
+    const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
+    if (checkFacing && dot(-d, facing) <= 0) return none();
+    return beamAlong(p, ng, -d, medium, facet, beams);
 }
 
 SunBeam SunConnection::smoothAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const {
@@ -267,10 +357,14 @@ SunBeam SunConnection::sample(const Point3& p, const Normal3& ng, const Vec3& fa
     // (keeps neighbouring pixels' streams aligned).
     const double u1 = rng.uniform(), u2 = rng.uniform();
     const bool rough = roughAbove(medium);
+    const FacetBeams* beams = beamsInto(medium);
     double v1 = 0, v2 = 0;
     if (rough) v1 = rng.uniform(), v2 = rng.uniform();
     if (!sun.enabled) return none();
     const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
+    // Which of the beams that contain p: from u1's low 27 bits (the disc point uses its high bits),
+    // so that the stream layout stays that of the flat-surface estimate (two numbers).
+    if (beams) return beamSample(p, ng, facing, medium, ws, u1 * 0x1.0p26 - std::floor(u1 * 0x1.0p26));
     const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
     if (rough) {
         // The transmission lobe of a horizontal rough surface lit from ws (light travels from ws
@@ -354,6 +448,20 @@ std::optional<Vec3> SunConnection::refractedDirection(int medium) const {
 }
 
 Spec SunConnection::direct(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const {
+    if (const FacetBeams* fb = beamsInto(medium)) {
+        // Every beam that contains p, summed (not one picked): the probe's direct sun is then free
+        // of noise but for the disc direction. The numbers sample() would draw, in its order.
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        Spec E(group_.count);
+        if (!scene_.sun().enabled) return E;
+        const Vec3 ws = scene_.sun().sampleDirection(u1, u2);
+        fb->forEachContaining(p, ws, [&](int f, const Vec3& d, double) {
+            const SunBeam b = beamAlong(p, Normal3{0, 0, 0}, -d, medium, f, 1);
+            const double c = b.valid ? dot(b.toSun, n) : 0.0;
+            if (c > 0) E += b.E * (scalar ? 1.0 : c);
+        });
+        return E;
+    }
     // A probe is a point inside a medium, not on a surface: its rays start exactly at p.
     const SunBeam b = sample(p, Normal3{0, 0, 0}, n, medium, rng);
     if (!b.valid) return Spec(group_.count);

@@ -11,11 +11,13 @@
 //    no earlier estimate covered it): SunConnection::environment.
 // The SunChain rules below say which estimate covers which chain of interface events, so that no
 // light is counted twice.
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/frame.h"
 #include "core/rng.h"
+#include "render/facet_beams.h"
 #include "render/scene.h"
 #include "render/spectral.h"
 
@@ -29,11 +31,14 @@ enum class GlossySun { Mis, NeeOnly, BsdfOnly };
 // a ray has gone through: the sun estimate at that vertex covers some chains of events, and a ray
 // reaching the solar disc along one of those does not count it again.
 //
-// A vertex in air (a shadow ray) or in water under smooth interfaces (the refracted sun) covers
-// chains with no reflection and no rough event, through any number of smooth interfaces (its own
-// medium's surface, refracted, and dielectric objects, crossed by the straight-path model); a vertex
-// in water under a rough interface (SunConnection::sample's rough strategy) covers chains with no
-// reflection and exactly one rough transmission. A glossy (rough interface) hit estimates the sun
+// A vertex in air (a shadow ray) covers chains with no reflection and no rough event, through any
+// number of smooth interfaces (dielectric objects, crossed by the straight-path model). A vertex in
+// a denser medium lit through facet beams (render/facet_beams.h) covers exactly the chains of one
+// smooth transmission, at a facet between its own medium and the air, and nothing else (no wall
+// counts as an event): a second crossing, a reflection (total internal reflection under a steep
+// facet) or a re-entry is left to the rays that sample the BSDF and the phase function, which count
+// the disc when they reach it. A vertex in water under a rough interface (SunConnection::sample's
+// rough strategy) covers chains with no reflection and exactly one rough transmission. A glossy (rough interface) hit estimates the sun
 // itself for the side of the surface where air is (SunConnection::atGlossyHit); the ray it samples
 // toward that side then counts the disc with the MIS weight of BSDF sampling if it reaches it
 // directly, and fully after any further event (afterGlossy).
@@ -43,18 +48,22 @@ struct SunChain {
     int transmissions = 0;       // smooth interfaces
     int roughTransmissions = 0;  // rough interfaces
     bool roughSun = false;       // the vertex's sun estimate was the rough-interface strategy
+    bool beamSun = false;        // the vertex's sun estimate was the facet beams
     double glossyPdf = 0;        // > 0: left a glossy hit whose sun estimate covered the direct disc
     bool countsSun() const {
         if (fromSensor || reflected) return true;
-        // Smooth transmissions are covered in any number: the sun estimate refracts at the medium's
-        // surface and crosses dielectric objects along the straight-path model.
-        const bool covered = roughSun ? roughTransmissions == 1 : roughTransmissions == 0;
+        // In air, smooth transmissions are covered in any number (the shadow ray crosses dielectric
+        // objects along the straight-path model); through facet beams exactly one.
+        const bool covered = roughSun  ? roughTransmissions == 1
+                             : beamSun ? roughTransmissions == 0 && transmissions == 1
+                                       : roughTransmissions == 0;
         return !covered;
     }
-    static SunChain afterVertex(bool rough = false) {
+    static SunChain afterVertex(bool rough = false, bool beams = false) {
         SunChain c;
         c.fromSensor = false;
         c.roughSun = rough;
+        c.beamSun = beams && !rough;
         return c;
     }
     static SunChain afterGlossy(double bsdfPdf) {
@@ -109,8 +118,12 @@ public:
     // medium bounded by a rough interface, so the stream layout depends only on the medium):
     //  * in air: a shadow ray toward a uniformly sampled point of the disc (through dielectric
     //    objects along the straight-path model: skyTransmittance);
-    //  * in a denser medium: the in-medium direction that a horizontal interface refracts toward
-    //    that point is traced to the interface actually above (straight through submerged
+    //  * in a denser medium with facet beams (beamsInto): the beams that contain p for that disc
+    //    point, one of them picked uniformly (from the first number's low bits) and weighted by
+    //    their number, traced back to its facet (the first surface on the way: else it is shadowed)
+    //    and on to the sky, which must be clear (beamAlong);
+    //  * in a denser medium holding dielectric objects: the in-medium direction that a horizontal
+    //    interface refracts toward that point is traced to the interface actually above (straight through submerged
     //    dielectric objects; a floating object's dry face stands for a horizontal water surface),
     //    refracted through the facet hit (Snell, Fresnel T_f), and counted if it leaves inside the
     //    disc and reaches the sky unoccluded, with the medium's transmittance along the leg and the
@@ -147,7 +160,12 @@ public:
     // recorded.
     SunChain chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide) const;
     // The SunChain of a ray leaving a scattering vertex in `medium`.
-    SunChain chainAfterVertex(int medium) const { return SunChain::afterVertex(roughAbove(medium)); }
+    SunChain chainAfterVertex(int medium) const {
+        return SunChain::afterVertex(roughAbove(medium), beamsInto(medium) != nullptr);
+    }
+    // The facet beams into `medium` (nullptr: none, or the medium lies under a rough interface or
+    // is the air).
+    const FacetBeams* beamsInto(int medium) const { return beams_[static_cast<size_t>(medium)].get(); }
 
     // Radiance of the sky (and of the solar disc if withSun) seen along direction d.
     Spec environment(const Vec3& d, bool withSun) const;
@@ -195,6 +213,19 @@ private:
     // The smooth-interface sun of along(): dir traced to the interface above and refracted there.
     SunBeam smoothAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const;
     double misSunWeight(double bsdfPdf) const;  // weight of a BSDF-sampled disc hit
+    // The facet-beam sun (sample and along in a medium with beams): from p along dir, through
+    // periodic walls only, to the first surface h, which must be a smooth facet between `medium`
+    // and the air (and facet `facet` of the beams when >= 0). Refracted there toward the disc
+    // direction it sends light from (which must be ws when given, else lie in the disc), with the
+    // air above it clear of everything. `beams` is the number of beams that contain p for that disc
+    // direction: the estimate picks one of them.
+    SunBeam beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int facet, int beams,
+                      Vec3* outAir = nullptr) const;
+    SunBeam beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
+                       double uPick) const;
+    // Straight along `ray` through periodic walls only: 1 and the first other surface (*h, and the
+    // transmittance of `medium` up to it), 0 if the ray escapes, -1 if it wraps without end.
+    int firstSurface(Ray ray, int medium, SurfaceHit* h, Spec* atten) const;
     SunBeam none() const;
 
     const Scene& scene_;
@@ -208,6 +239,7 @@ private:
     std::vector<int> roughSunMaterial_;
     std::vector<std::optional<RoughDielectricBxDF>> roughProto_;
     std::vector<Frame> roughFrame_;
+    std::vector<std::unique_ptr<FacetBeams>> beams_;  // per medium (see beamsInto)
 };
 
 }  // namespace littoral::render

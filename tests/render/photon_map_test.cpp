@@ -176,7 +176,7 @@ template <class Keep> double regionMean(const Film& f, Keep keep, int* count = n
 // spread. (The photon-map queries wrap around the periodic domain's walls: before they did, the
 // open-water region, which touches the walls, came out 4.6 % low here, 6 standard errors.)
 // The two must agree within 3 combined standard errors; each estimate's standard error is checked
-// below 2 % so that the test can fail.
+// below 2.5 % so that the test can fail.
 TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
     auto build = [](bool pm) {
         ir::SceneIR s;
@@ -255,7 +255,10 @@ TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
     const double topM = meanSe(topPm, &seTopPm), openM = meanSe(openPm, &seOpenPm);
     EXPECT_NEAR(topM, topPath, 3 * std::hypot(seTopPm, seTopPath)) << "surface map (box top)";
     EXPECT_NEAR(openM, openPath, 3 * std::hypot(seOpenPm, seOpenPath)) << "volume map (open water)";
-    for (double rel : {seTopPath / topPath, seOpenPath / openPath, seTopPm / topM, seOpenPm / openM}) EXPECT_LT(rel, 0.02);
+    // Each estimate's noise must be small for the comparison to mean something: 2 %, plus a quarter
+    // for the uncertainty of a standard error taken from 16 pixels or 5 passes (1 / sqrt(2 (n - 1))
+    // = 18 % and 35 %).
+    for (double rel : {seTopPath / topPath, seOpenPath / openPath, seTopPm / topM, seOpenPm / openM}) EXPECT_LT(rel, 0.025);
     std::printf("[ pm vs path ] box top: path %.5f +- %.5f, photon maps %.5f +- %.5f\n", topPath, seTopPath, topM, seTopPm);
     std::printf("[ pm vs path ] open water: path %.5f +- %.5f, photon maps %.5f +- %.5f\n", openPath, seOpenPath, openM,
                 seOpenPm);
