@@ -90,11 +90,13 @@ void capForATinyRender(ir::SceneIR& s) {
     capInteger(r, "max_bounces", kMaxBounces, true);
     capInteger(r, "max_specular_depth", kMaxSpecularDepth, true);
     if (dirsig) capInteger(r, "hemisphere_samples", kMaxHemisphereSamples, true);
-    // Read only with a photon-map solver: lowered when set, never added.
+    // Read only with a photon-map solver: lowered when set, never added, except photon_max_bounces
+    // (default 200) when photons are set (read with them, or the photons' own key is refused as unread).
+    const bool photons = r.settings.has("surface_photons") || r.settings.has("volume_photons");
     capInteger(r, "surface_photons", kMaxPhotons, false);
     capInteger(r, "volume_photons", kMaxPhotons, false);
     capInteger(r, "progressive_passes", kMaxPasses, false);
-    capInteger(r, "photon_max_bounces", kMaxPhotonBounces, false);
+    capInteger(r, "photon_max_bounces", kMaxPhotonBounces, dirsig && photons);
     // The ray-march step: read by the path estimator, and by dirsig's volume photon map.
     const littoral::ParamValue* step = r.settings.find("march_step_m");
     if (step && !std::holds_alternative<bool>(*step)) {
