@@ -9,11 +9,15 @@ if(NOT LITTORAL_FUZZ_CXX)
 endif()
 include(ExternalProject)
 set(LITTORAL_FUZZ_JOBS 2 CACHE STRING "Parallel jobs of the fuzz-target build")
-set(LITTORAL_FUZZ_TARGETS scene ir ply obj off stl raster soundings spectrum_csv)
+set(LITTORAL_FUZZ_TARGETS scene ir ply obj off stl raster soundings spectrum_csv checkpoint)
+if(LITTORAL_FUZZ_RENDER)
+  list(APPEND LITTORAL_FUZZ_TARGETS ir_render)
+endif()
 ExternalProject_Add(littoral_fuzz
   SOURCE_DIR ${PROJECT_SOURCE_DIR}/fuzz
   BINARY_DIR ${PROJECT_BINARY_DIR}/fuzz
   CMAKE_ARGS -DCMAKE_CXX_COMPILER=${LITTORAL_FUZZ_CXX} -DCMAKE_BUILD_TYPE=RelWithDebInfo
+             -DLITTORAL_FUZZ_RENDER=${LITTORAL_FUZZ_RENDER}
   BUILD_COMMAND ${CMAKE_COMMAND} --build <BINARY_DIR> -j${LITTORAL_FUZZ_JOBS}
   INSTALL_COMMAND ""
   BUILD_ALWAYS ON

@@ -77,6 +77,8 @@ static_assert(everyTypeHasAFactory(), "every ir::Sensor::Type needs exactly one 
 template <class... F> struct Overloaded : F... {
     using F::operator()...;
 };
+// Needed by clang before 17, which does not deduce an aggregate's template arguments (P1816).
+template <class... F> Overloaded(F...) -> Overloaded<F...>;
 
 Projection makeProjection(const ir::Sensor& s, const std::string& who) {
     for (const SensorFactory& f : kSensorFactories)

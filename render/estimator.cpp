@@ -320,7 +320,7 @@ std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderCon
     throw InternalError("unknown estimator");
 }
 
-EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progress)
+EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progress, uint64_t maxPhotonsEmitted)
     : config_(makeRenderConfig(scene.ir())), groups_(bandGroups(scene)), pass_(pass) {
     for (const BandGroup& g : groups_) {
         const PhotonMaps* maps = nullptr;
@@ -336,6 +336,7 @@ EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progr
             ps.cellSize = std::max(config_.radiusAt(config_.surfaceRadius, pass), config_.radiusAt(config_.volumeRadius, pass));
             ps.threads = threads;
             ps.progress = progress;
+            ps.maxEmitted = maxPhotonsEmitted;
             ps.volumeMedium.assign(scene.media().size(), false);
             for (size_t m = 0; m < config_.mediumPM.size(); ++m) ps.volumeMedium[m + 1] = config_.mediumPM[m];
             for (size_t m = 0; m < config_.solvers.size(); ++m)

@@ -122,8 +122,10 @@ protected:
 class EstimatorSet {
 public:
     // For progressive photon mapping, pass p (1-based) traces its own photon maps (random streams
-    // keyed by the pass) with the pass's radii.
-    explicit EstimatorSet(const Scene& scene, int pass = 1, int threads = 0, bool progress = false);
+    // keyed by the pass) with the pass's radii. maxPhotonsEmitted caps the photons a photon pass
+    // emits while filling its maps (0: PhotonPassSettings' default, render/photon_pass.h).
+    explicit EstimatorSet(const Scene& scene, int pass = 1, int threads = 0, bool progress = false,
+                          uint64_t maxPhotonsEmitted = 0);
     ~EstimatorSet();
     const RenderConfig& config() const { return config_; }
     const std::vector<BandGroup>& groups() const { return groups_; }

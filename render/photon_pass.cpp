@@ -278,7 +278,7 @@ public:
 
 private:
     uint64_t waveSize() const {
-        if (chunk0_ == 0) return perRound_;
+        if (chunk0_ == 0) return std::min(perRound_, (maxEmitted_ + kChunk - 1) / kChunk);
         double need = 0;
         auto still = [&](bool closed, uint64_t have, uint64_t target) {
             if (closed) return;
@@ -288,7 +288,9 @@ private:
         still(closedS_, maps_.surface.size(), st_.surfaceTarget);
         still(closedV_, maps_.volume.size(), st_.volumeTarget);
         const double rounds = std::ceil(std::min(need * 1.05 + 1, 1e12) / static_cast<double>(perRound_));
-        return perRound_ * static_cast<uint64_t>(std::clamp(rounds, 1.0, 8.0));
+        // Never more chunks than the emission cap leaves (done() stops the waves before it is reached).
+        const uint64_t left = (maxEmitted_ - chunk0_ * kChunk + kChunk - 1) / kChunk;
+        return std::min(perRound_ * static_cast<uint64_t>(std::clamp(rounds, 1.0, 8.0)), left);
     }
     void append(uint64_t n) {
         for (uint64_t c = 0; c < n && !full(); ++c) {

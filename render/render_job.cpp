@@ -10,168 +10,58 @@
 #include "core/render_budget.h"
 #include "core/suggest.h"
 #include "render/estimator.h"
-
-#include <cstring>
-#include <nlohmann/json.hpp>
 #include "render/image_output.h"
+#include "render/progressive_checkpoint.h"
 
 namespace littoral::render {
 
 namespace {
 
-// Running sums over progressive passes: images pixel by pixel, probes value by value (and the
-// squares of the pass values, for the spread).
-struct ProgressiveState {
-    size_t irHash = 0;
-    int passesDone = 0;
-    std::vector<std::vector<double>> imageSums;
-    std::vector<std::vector<double>> probeSums, probeSquares;
+// Adds one pass's images and probe values to the running sums.
+void accumulate(ProgressiveState& st, const std::vector<SensorImage>& images, const std::vector<ProbeValue>& probes) {
+    if (st.imageSums.empty()) st.imageSums.resize(images.size());
+    for (size_t i = 0; i < images.size(); ++i) {
+        auto& s = st.imageSums[i];
+        s.resize(images[i].film.pixels.size(), 0.0);
+        for (size_t k = 0; k < s.size(); ++k) s[k] += images[i].film.pixels[k];
+    }
+    if (st.probeSums.empty()) {
+        st.probeSums.resize(probes.size());
+        st.probeSquares.resize(probes.size());
+    }
+    for (size_t i = 0; i < probes.size(); ++i) {
+        st.probeSums[i].resize(probes[i].mean.size(), 0.0);
+        st.probeSquares[i].resize(probes[i].mean.size(), 0.0);
+        for (size_t b = 0; b < probes[i].mean.size(); ++b) {
+            st.probeSums[i][b] += probes[i].mean[b];
+            st.probeSquares[i][b] += probes[i].mean[b] * probes[i].mean[b];
+        }
+    }
+    ++st.passesDone;
+}
 
-    void accumulate(const std::vector<SensorImage>& images, const std::vector<ProbeValue>& probes) {
-        if (imageSums.empty()) imageSums.resize(images.size());
-        for (size_t i = 0; i < images.size(); ++i) {
-            auto& s = imageSums[i];
-            s.resize(images[i].film.pixels.size(), 0.0);
-            for (size_t k = 0; k < s.size(); ++k) s[k] += images[i].film.pixels[k];
-        }
-        if (probeSums.empty()) {
-            probeSums.resize(probes.size());
-            probeSquares.resize(probes.size());
-        }
-        for (size_t i = 0; i < probes.size(); ++i) {
-            probeSums[i].resize(probes[i].mean.size(), 0.0);
-            probeSquares[i].resize(probes[i].mean.size(), 0.0);
-            for (size_t b = 0; b < probes[i].mean.size(); ++b) {
-                probeSums[i][b] += probes[i].mean[b];
-                probeSquares[i][b] += probes[i].mean[b] * probes[i].mean[b];
+// The means over passes, written into the last pass's results (which carry the truth images,
+// names and units).
+void finish(const ProgressiveState& st, std::vector<SensorImage>* outImages, std::vector<ProbeValue>* outProbes,
+            std::vector<SensorImage>& last, std::vector<ProbeValue>& lastProbes) {
+    const double n = st.passesDone;
+    for (size_t i = 0; i < last.size(); ++i)
+        for (size_t k = 0; k < last[i].film.pixels.size(); ++k)
+            last[i].film.pixels[k] = static_cast<float>(st.imageSums[i][k] / n);
+    for (size_t i = 0; i < lastProbes.size(); ++i)
+        for (size_t b = 0; b < lastProbes[i].mean.size(); ++b) {
+            const double mean = st.probeSums[i][b] / n;
+            lastProbes[i].mean[b] = mean;
+            if (st.passesDone >= 2) {
+                // Passes are independent (each its own photon maps): their spread includes the
+                // maps' noise, which the batches within one pass do not see.
+                const double var = std::max(0.0, (st.probeSquares[i][b] - n * mean * mean) / (n - 1));
+                lastProbes[i].stderr_[b] = std::sqrt(var / n);
             }
         }
-        ++passesDone;
-    }
-
-    // The means over passes, written into the last pass's results (which carry the truth images,
-    // names and units).
-    void finish(std::vector<SensorImage>* outImages, std::vector<ProbeValue>* outProbes, std::vector<SensorImage>& last,
-                std::vector<ProbeValue>& lastProbes) const {
-        const double n = passesDone;
-        for (size_t i = 0; i < last.size(); ++i)
-            for (size_t k = 0; k < last[i].film.pixels.size(); ++k)
-                last[i].film.pixels[k] = static_cast<float>(imageSums[i][k] / n);
-        for (size_t i = 0; i < lastProbes.size(); ++i)
-            for (size_t b = 0; b < lastProbes[i].mean.size(); ++b) {
-                const double mean = probeSums[i][b] / n;
-                lastProbes[i].mean[b] = mean;
-                if (passesDone >= 2) {
-                    // Passes are independent (each its own photon maps): their spread includes the
-                    // maps' noise, which the batches within one pass do not see.
-                    const double var = std::max(0.0, (probeSquares[i][b] - n * mean * mean) / (n - 1));
-                    lastProbes[i].stderr_[b] = std::sqrt(var / n);
-                }
-            }
-        *outImages = std::move(last);
-        *outProbes = std::move(lastProbes);
-    }
-};
-
-// What a checkpoint of this run must hold: the sensor selection it was made with, the passes of
-// the run, and the sizes of its sums (pixels x bands per image, bands per probe value).
-struct CheckpointShape {
-    std::string sensor;  // --sensor ("" = every sensor and the probes)
-    int passes = 1;
-    std::vector<size_t> imageSizes;
-    size_t probeValues = 0, bands = 0;
-};
-
-void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st, const CheckpointShape& shape) {
-    createOutputFolder(dir);
-    nlohmann::json j;
-    j["format"] = "littoral-progressive-checkpoint";
-    j["ir_hash"] = std::to_string(st.irHash);
-    j["sensor"] = shape.sensor;
-    j["passes"] = shape.passes;
-    j["passes_done"] = st.passesDone;
-    j["probe_sums"] = st.probeSums;
-    j["probe_squares"] = st.probeSquares;
-    std::vector<size_t> sizes;
-    for (const auto& v : st.imageSums) sizes.push_back(v.size());
-    j["image_sizes"] = sizes;
-    for (size_t i = 0; i < st.imageSums.size(); ++i) {
-        const auto& v = st.imageSums[i];
-        writeTextFileAtomic(dir / fmt::format("image{}.f64", i),
-                            std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double)));
-    }
-    writeTextFileAtomic(dir / "state.json", j.dump(1) + "\n");
-    // A checkpoint exists to survive an interrupted or failed run: it is published at once
-    // instead of waiting for the command's output set (core/atomic_file.h).
-    publishStagedOutputs();
+    *outImages = std::move(last);
+    *outProbes = std::move(lastProbes);
 }
-
-// InputError (an unreadable checkpoint) unless the passes and probe sums read fit this run (the
-// image sums are checked against the run as they are read).
-void checkShape(const ProgressiveState& st, const CheckpointShape& shape) {
-    if (!(st.passesDone >= 1 && st.passesDone < shape.passes))
-        throw InputError(fmt::format("passes_done is {}; a checkpoint of this {}-pass run holds 1 to {} passes",
-                                     st.passesDone, shape.passes, shape.passes - 1));
-    if (st.probeSums.size() != shape.probeValues || st.probeSquares.size() != shape.probeValues)
-        throw InputError(fmt::format("it holds {} probe values, this run computes {}", st.probeSums.size(), shape.probeValues));
-    for (size_t i = 0; i < st.probeSums.size(); ++i)
-        if (st.probeSums[i].size() != shape.bands || st.probeSquares[i].size() != shape.bands)
-            throw InputError(fmt::format("probe value {} has {} bands, the scene {}", i, st.probeSums[i].size(), shape.bands));
-}
-
-ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash, const CheckpointShape& shape) {
-    const auto file = dir / "state.json";
-    if (!std::filesystem::exists(file))
-        throw InputError(SourceLoc{file.string()}, "--resume: no progressive checkpoint here (a run saves one after "
-                                                   "every pass but the last)");
-    ProgressiveState st;
-    try {
-        // The checkpoint is this run's own state, which it replaces after every pass: not an input
-        // that outputs must leave alone (core/atomic_file.h).
-        const auto j = nlohmann::json::parse(readTextFile(file));
-        forgetInput(file);
-        if (j.at("format") != "littoral-progressive-checkpoint") throw InputError("not a checkpoint");
-        if (j.at("ir_hash").get<std::string>() != std::to_string(irHash))
-            throw InputError(SourceLoc{file.string()}, "--resume: the checkpoint was made by a different scene (the IR "
-                                                       "changed since); start the render again without --resume");
-        const std::string sensor = j.at("sensor").get<std::string>();
-        if (sensor != shape.sensor)
-            throw InputError(SourceLoc{file.string()},
-                             fmt::format("--resume: the checkpoint was made {}, this run renders {}; resume with the "
-                                         "same --sensor selection",
-                                         sensor.empty() ? "for every sensor" : "with --sensor " + sensor,
-                                         shape.sensor.empty() ? "every sensor" : "only --sensor " + shape.sensor));
-        st.irHash = irHash;
-        st.passesDone = j.at("passes_done").get<int>();
-        st.probeSums = j.at("probe_sums").get<std::vector<std::vector<double>>>();
-        st.probeSquares = j.at("probe_squares").get<std::vector<std::vector<double>>>();
-        const auto sizes = j.at("image_sizes").get<std::vector<size_t>>();
-        if (sizes.size() != shape.imageSizes.size())
-            throw InputError(fmt::format("it holds {} images, this run renders {}", sizes.size(), shape.imageSizes.size()));
-        for (size_t i = 0; i < sizes.size(); ++i) {
-            if (sizes[i] != shape.imageSizes[i])
-                throw InputError(fmt::format("image {} holds {} values, the sensor renders {}", i, sizes[i],
-                                             shape.imageSizes[i]));
-            const std::string raw = readTextFile(dir / fmt::format("image{}.f64", i));
-            forgetInput(dir / fmt::format("image{}.f64", i));
-            if (raw.size() != sizes[i] * sizeof(double)) throw InputError("image sums truncated");
-            std::vector<double> v(sizes[i]);
-            std::memcpy(v.data(), raw.data(), raw.size());
-            st.imageSums.push_back(std::move(v));
-        }
-        checkShape(st, shape);
-    } catch (const InputError& e) {
-        if (!e.where().file.empty()) throw;
-        throw InputError(SourceLoc{file.string()}, "--resume: unreadable checkpoint: " + e.message());
-    } catch (const std::exception& e) {
-        throw InputError(SourceLoc{file.string()}, std::string("--resume: unreadable checkpoint: ") + e.what());
-    }
-    return st;
-}
-
-}  // namespace
-
-namespace {
 
 // Outputs first: a name that is not a file name, two sensors writing one file, or an output
 // folder that cannot be created is found before any rendering time is spent.
@@ -299,7 +189,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     }
     for (int pass = first; pass <= passes; ++pass) {
         // One estimator per band group (and its photon maps), shared by every sensor and probe.
-        const EstimatorSet estimators(scene, pass, ro.threads, opts.progress);
+        const EstimatorSet estimators(scene, pass, ro.threads, opts.progress, opts.maxPhotonsEmitted);
         std::vector<SensorImage> images;
         for (const ir::Sensor* s : sensors) images.push_back(renderSensor(scene, estimators, *s, ro));
         std::vector<ProbeValue> probes;
@@ -308,12 +198,12 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
                 auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
                 probes.insert(probes.end(), v.begin(), v.end());
             }
-        state.accumulate(images, probes);
+        accumulate(state, images, probes);
         if (passes > 1) {
             log::info("progressive pass {} of {} done", pass, passes);
             if (pass < passes) saveCheckpoint(ckptDir, state, shape);
         }
-        if (pass == passes) state.finish(&res.images, &res.probes, images, probes);
+        if (pass == passes) finish(state, &res.images, &res.probes, images, probes);
     }
     warnIfPathsWereCut(traced0, cut0, config);
     writeOutputs(ir, scene, outDir, opts, res);

@@ -16,6 +16,7 @@
 // (each pass its own photon maps, radii shrinking as r_p = r_1 p^((alpha - 1)/2)); the probes'
 // standard errors are then the spread of the pass means over sqrt(passes), which includes the
 // photon maps' own noise.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct RenderJobOptions {
     // removed when the last pass is done and the outputs are written.
     bool resume = false;
     PreviewOptions preview;  // PNG display mapping: gamma, white level, Gaussian blur (image_output.h)
+    // Photons a photon pass may emit while filling its maps (0: the default, at least 10^7; a map
+    // still short then holds what was stored, with a warning). For tiny runs (fuzz/).
+    uint64_t maxPhotonsEmitted = 0;
 };
 
 struct RenderJobResult {

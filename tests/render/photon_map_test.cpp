@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/rng.h"
+#include "core/stats.h"
 #include "core/units.h"
 #include "render/estimator.h"
 #include "render/photon_map.h"
@@ -463,6 +464,39 @@ TEST(PhotonMap, SameSeedSameMapsForAnyThreadCount) {
         }
         EXPECT_EQ(differ, 0u) << threads << " threads";
     }
+}
+
+// The emission cap (PhotonPassSettings::maxEmitted, RenderJobOptions::maxPhotonsEmitted): a map that
+// cannot fill (no material stores photons) stops at the cap, in whole chunks of 16384 photons, and
+// the waves trace no chunk beyond it: with 4 threads a cap of one chunk costs one chunk, not the
+// first wave's four, so it casts well under half the rays of a cap of three chunks.
+TEST(PhotonMap, EmissionStopsAtTheCap) {
+    ir::SceneIR s;
+    s.name = "cap";
+    s.domain = {-2, 2, -2, 2, false};
+    s.sun.enabled = true;
+    s.sun.zenith = deg2rad(30);
+    s.sun.irradiance = Spectrum::constant(1.0);
+    s.materials.push_back(material("sand", M::Type::Lambertian, M::Solver::SurfacePM, 0.6));
+    s.meshes.push_back(meshOf("ground", plane(-3, 3, -3, 3, 0), {"sand"}));
+    const Scene scene(s, ".");
+    auto rays = [&](uint64_t cap) {
+        PhotonPassSettings ps;
+        ps.surfaceTarget = 1000;
+        ps.maxEmitted = cap;
+        ps.threads = 4;
+        ps.progress = false;
+        ps.surfaceMaterial.assign(s.materials.size(), false);  // nothing is stored
+        ps.volumeMedium.assign(scene.media().size(), false);
+        const int64_t cast0 = statCounter("rays cast").value;
+        const PhotonMaps maps = tracePhotons(scene, BandGroup{0, 1}, ps);
+        EXPECT_EQ(maps.surface.size(), 0u);
+        EXPECT_EQ(maps.emitted, (cap + 16383) / 16384 * 16384) << cap;
+        return statCounter("rays cast").value - cast0;
+    };
+    const int64_t one = rays(16384), three = rays(40000);
+    EXPECT_GT(one, 0);
+    EXPECT_LT(2 * one, three);
 }
 
 }  // namespace
