@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/frame.h"
 #include "core/log.h"
+#include "core/units.h"
 #include "render/scene.h"
 
 namespace littoral::render {
@@ -15,7 +16,9 @@ namespace {
 
 constexpr int kRim = 8;                 // disc rim directions sampled for a footprint's extent
 constexpr double kRimMargin = 1.15;     // the rim's polygon inscribes the disc: widen it
-constexpr int kMaxSlabs = 512;
+constexpr int kMaxSlabs = 128;
+constexpr double kMaxCells = 1 << 22;     // 16 MB of cell offsets
+constexpr double kMaxEntries = 1 << 25;   // 128 MB of facet lists
 constexpr int kMaxCellsPerAxis = 4096;
 constexpr double kMinBeamSlope = 0.1;   // |d.z|: beams closer to horizontal are not indexed
 
@@ -162,13 +165,6 @@ void FacetBeams::build(const Vec3& sunDir, double halfAngle, double zBottom, con
     }
     zTop_ = zTop;
     zBottom = std::min(zBottom, zTop - 1e-3);
-    // Slabs in which a beam drifts about one cell.
-    const double span = std::max(dom.x1 - dom.x0, dom.y1 - dom.y0);
-    // Cells half a facet wide: a cell then lists about 2 (1 + 1/2)^2 = 4.5 triangles of a regular
-    // grid of cells (8 with whole-facet cells), for about 2.3 times the entries.
-    const double cell = std::max(0.5 * sizeSum / static_cast<double>(facets_.size()), span / kMaxCellsPerAxis);
-    nz_ = std::clamp(static_cast<int>(std::ceil((zTop - zBottom) * maxDrift / cell)), 1, kMaxSlabs);
-    slab_ = (zTop - zBottom) / nz_;
     // The sheared plane: the domain's period, or the footprints' extent at the top and the bottom.
     double x0 = dom.x0, x1 = dom.x1, y0 = dom.y0, y1 = dom.y1;
     if (!periodic_) {
@@ -184,8 +180,22 @@ void FacetBeams::build(const Vec3& sunDir, double halfAngle, double zBottom, con
         if (!(x1 >= x0)) x0 = x1 = y0 = y1 = 0;
     }
     x0_ = x0, y0_ = y0;
-    nx_ = std::clamp(static_cast<int>(std::ceil((x1 - x0) / cell)), 1, kMaxCellsPerAxis);
-    ny_ = std::clamp(static_cast<int>(std::ceil((y1 - y0) / cell)), 1, kMaxCellsPerAxis);
+    // Cells half a facet wide (a cell then lists about 2 (1 + 1/2)^2 = 4.5 triangles of a regular
+    // grid, 8 with whole-facet cells), slabs in which a beam drifts about one cell; both coarsened
+    // until the grid holds at most kMaxCells cells and kMaxEntries entries (a deep column under
+    // small facets would otherwise need billions).
+    const double span = std::max(dom.x1 - dom.x0, dom.y1 - dom.y0);
+    const double meanExtent = sizeSum / static_cast<double>(facets_.size());
+    double cell = std::max(0.5 * meanExtent, span / kMaxCellsPerAxis);
+    for (;; cell *= 1.25) {
+        nz_ = std::clamp(static_cast<int>(std::ceil((zTop - zBottom) * maxDrift / cell)), 1, kMaxSlabs);
+        nx_ = std::clamp(static_cast<int>(std::ceil((x1 - x0) / cell)), 1, kMaxCellsPerAxis);
+        ny_ = std::clamp(static_cast<int>(std::ceil((y1 - y0) / cell)), 1, kMaxCellsPerAxis);
+        // Each facet lies in about (extent / cell + 2)^2 cells of each slab below it.
+        const double entries = static_cast<double>(facets_.size()) * nz_ * sqr(meanExtent / cell + 2);
+        if (static_cast<double>(nz_) * nx_ * ny_ <= kMaxCells && entries <= kMaxEntries) break;
+    }
+    slab_ = (zTop - zBottom) / nz_;
     cellX_ = std::max((x1 - x0) / nx_, 1e-12), cellY_ = std::max((y1 - y0) / ny_, 1e-12);
     offsets_.assign(static_cast<size_t>(nz_) * nx_ * ny_ + 1, 0);
     fill(drifts, true);
