@@ -11,7 +11,6 @@
 // At exit the ratios are printed (issue 18 aims at a lookup within 3x of one ray).
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +24,7 @@
 #include "render/facet_beams.h"
 #include "render/scene.h"
 #include "render/sun_connection.h"
+#include "tests/render/render_test_scenes.h"
 
 namespace {
 
@@ -49,35 +49,7 @@ TriMesh waveSlab() {
         for (const Mode& m : modes) z += m.a * std::sin(m.kx * x + m.ky * y + m.p);
         return z;
     };
-    TriMesh m;
-    auto X = [](int i) { return -kL + 2 * kL * i / kGrid; };
-    for (int layer = 0; layer < 2; ++layer)
-        for (int j = 0; j <= kGrid; ++j)
-            for (int i = 0; i <= kGrid; ++i) m.positions.push_back({X(i), X(j), layer ? -kDepth : h(X(i), X(j))});
-    const uint32_t base = (kGrid + 1) * (kGrid + 1);
-    auto v = [](int i, int j) { return static_cast<uint32_t>(j * (kGrid + 1) + i); };
-    auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d, uint16_t slot) {
-        m.triangles.push_back({a, b, c});
-        m.triangles.push_back({a, c, d});
-        m.faceMaterial.push_back(slot);
-        m.faceMaterial.push_back(slot);
-    };
-    for (int j = 0; j < kGrid; ++j)
-        for (int i = 0; i < kGrid; ++i) {
-            quad(v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1), 0);
-            quad(base + v(i, j), base + v(i, j + 1), base + v(i + 1, j + 1), base + v(i + 1, j), 1);
-        }
-    for (int k = 0; k < kGrid; ++k) {
-        quad(v(k, 0), base + v(k, 0), base + v(k + 1, 0), v(k + 1, 0), 2);
-        quad(v(k + 1, kGrid), base + v(k + 1, kGrid), base + v(k, kGrid), v(k, kGrid), 2);
-        quad(v(0, k + 1), base + v(0, k + 1), base + v(0, k), v(0, k), 2);
-        quad(v(kGrid, k), base + v(kGrid, k), base + v(kGrid, k + 1), v(kGrid, k + 1), 2);
-    }
-    for (auto& t : m.triangles) {  // outward
-        const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
-        if (dot(cross(b - a, c - a), (a + b + c) * (1.0 / 3.0) - Point3{0, 0, -0.5 * kDepth}) < 0) std::swap(t[1], t[2]);
-    }
-    return m;
+    return render::testing::heightSlab(kL, kDepth, kGrid, h);
 }
 
 struct Setup {
@@ -101,11 +73,9 @@ const Setup& setup() {
         ir.sun.irradiance = Spectrum::constant(1000);
         ir.domain = {-kL, kL, -kL, kL, true};
         ir.media.push_back(ir::Medium::homogeneous("water", 1.34, Spectrum::constant(0.05), Spectrum::constant(0), {}));
-        ir::Material surface, black, wall;
-        surface.name = "surface", surface.type = M::Type::Dielectric;
-        black.name = "black", black.type = M::Type::Black;
-        wall.name = "wall", wall.type = M::Type::Periodic;
-        ir.materials = {surface, black, wall};
+        using render::testing::typedMaterial;
+        ir.materials = {typedMaterial("surface", M::Type::Dielectric), typedMaterial("black", M::Type::Black),
+                        typedMaterial("wall", M::Type::Periodic)};
         ir::Mesh mesh;
         mesh.name = "water", mesh.file = "meshes/water.ply", mesh.materials = {"surface", "black", "wall"};
         mesh.inside = "water", mesh.closed = true, mesh.data = waveSlab();
@@ -131,64 +101,57 @@ const Setup& setup() {
     return *s;
 }
 
-std::map<std::string, double> gRate;
+std::map<std::string, double> gRate;  // queries per second of process CPU time, per query kind
 
-void report(benchmark::State& state, const char*, int64_t n) {
+// Runs `pass` (one query per point; returns a value that depends on every query) once per
+// iteration, and records the rate in gRate[name] in process CPU time (the machine may be shared).
+template <class Pass> void timed(benchmark::State& state, const char* name, Pass&& pass) {
+    const Setup& s = setup();
+    const int64_t perPass = static_cast<int64_t>(s.points.size());
+    int64_t n = 0;
+    const std::clock_t t0 = std::clock();
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(pass(s));
+        n += perPass;
+    }
+    gRate[name] = static_cast<double>(n) / (static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
     state.counters["queries/s"] = benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsRate);
 }
 
 void BM_BeamLookup(benchmark::State& state) {
-    const Setup& s = setup();
-    const render::FacetBeams& fb = *s.sun->beamsInto(s.water);
-    int64_t n = 0, beams = 0;
-    const std::clock_t t0 = std::clock();  // process CPU time: the machine may be shared
-    for (auto _ : state)
-        for (const Point3& p : s.points) beams += fb.forEachContaining(p, s.ws, [](int, const Vec3&, double) {}), ++n;
-    gRate["lookup"] = n / (static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-    benchmark::DoNotOptimize(beams);
-    state.counters["beams/point"] = static_cast<double>(beams) / static_cast<double>(n);
-    report(state, "lookup", n);
+    int64_t beams = 0, passes = 0;
+    timed(state, "lookup", [&](const Setup& s) {
+        const render::FacetBeams& fb = *s.sun->beamsInto(s.water);
+        for (const Point3& p : s.points) beams += fb.forEachContaining(p, s.ws, [](int, const Vec3&, double) {});
+        return ++passes;
+    });
+    state.counters["beams/point"] = static_cast<double>(beams) / static_cast<double>(passes * setup().points.size());
 }
 
 void BM_BeamSunEstimate(benchmark::State& state) {
-    const Setup& s = setup();
-    int64_t n = 0;
-    double sum = 0;
-    const std::clock_t t0 = std::clock();  // process CPU time: the machine may be shared
-    for (auto _ : state)
+    timed(state, "estimate", [](const Setup& s) {
+        double sum = 0;
         for (size_t k = 0; k < s.points.size(); ++k) {
             RandomStream rng(3, 0, k);
             sum += s.sun->direct(s.points[k], Normal3{0, 0, 1}, s.water, false, rng)[0];
-            ++n;
         }
-    gRate["estimate"] = n / (static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-    benchmark::DoNotOptimize(sum);
-    report(state, "estimate", n);
+        return sum;
+    });
 }
 
 void BM_EmbreeRay(benchmark::State& state) {
-    const Setup& s = setup();
-    int64_t n = 0, hits = 0;
-    const std::clock_t t0 = std::clock();  // process CPU time: the machine may be shared
-    for (auto _ : state)
+    timed(state, "ray", [](const Setup& s) {
+        int64_t hits = 0;
         for (const Ray& r : s.rays) {
             render::SurfaceHit h;
             hits += s.scene->geometry().intersect(r, &h);
-            ++n;
         }
-    gRate["ray"] = n / (static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-    benchmark::DoNotOptimize(hits);
-    report(state, "ray", n);
+        return hits;
+    });
 }
 
 void BM_EmbreeRawRay(benchmark::State& state) {
-    const Setup& s = setup();
-    int64_t n = 0, hits = 0;
-    const std::clock_t t0 = std::clock();  // process CPU time: the machine may be shared
-    for (auto _ : state) hits += s.scene->geometry().rawIntersectCount(s.rays.data(), s.rays.size()), n += s.rays.size();
-    gRate["raw"] = n / (static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
-    benchmark::DoNotOptimize(hits);
-    report(state, "raw", n);
+    timed(state, "raw", [](const Setup& s) { return s.scene->geometry().rawIntersectCount(s.rays.data(), s.rays.size()); });
 }
 
 }  // namespace

@@ -8,7 +8,9 @@
 # of CPU); a real hang or blow-up on inputs of at most 4 KB still exceeds it by far. Inputs are at
 # most 4 KiB, 16 KiB for ir_render (an IR folder: scene.json and meshes; LITTORAL_FUZZ_MAX_LEN
 # overrides both). ir_render is built only with -DLITTORAL_FUZZ_RENDER=ON, so it is not in the
-# default list: name it (docs/reliability.md).
+# default list: name it (docs/reliability.md). LITTORAL_FUZZ_SECONDS, when set, also stops each
+# target after that many seconds (-max_total_time), whichever of the two limits comes first; the
+# summary line records the executions reached.
 # Usage: fuzz/campaign.sh FUZZ_BUILD_DIR RUNS OUT_DIR [targets...]
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -23,13 +25,15 @@ for t in "${targets[@]}"; do
   max_len=4096
   [ "$t" = ir_render ] && max_len=16384
   max_len=${LITTORAL_FUZZ_MAX_LEN:-$max_len}
+  time_limit=()
+  [ -n "${LITTORAL_FUZZ_SECONDS:-}" ] && time_limit=(-max_total_time="$LITTORAL_FUZZ_SECONDS")
   mkdir -p "$out/$t/new" "$out/$t/artifacts"
   start=$(date +%s)
   # -jobs=1: one worker process, whose output libFuzzer writes to fuzz-0.log in the current
   # folder, hence the cd.
   (cd "$out/$t" && nice -n "${LITTORAL_FUZZ_NICE:-5}" /usr/bin/time -f "%e s wall, %U s user, %S s system" \
      -o "$out/$t/time.txt" "$build/fuzz_$t" -runs="$runs" -jobs=1 -timeout=120 -rss_limit_mb=2048 \
-     -max_len="$max_len" -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" \
+     -max_len="$max_len" -print_final_stats=1 -artifact_prefix="$out/$t/artifacts/" "${dict[@]}" "${time_limit[@]}" \
      "$out/$t/new" "$root/fuzz/corpus/$t" > "$out/$t/driver.txt" 2>&1)
   rc=$?
   log="$out/$t/fuzz-0.log"

@@ -217,6 +217,18 @@ void checkTransform(const ir::Instance& in, size_t ii) {
                                      "lengths {}, {}, {}); it must map 3-D space onto itself",
                                      ii, in.mesh, det, l0, l1, l2));
 }
+
+// A vertex must be finite and within kMaxGeometryM of the origin: Embree builds its bounds in
+// single precision and asserts on infinite or overflowing boxes.
+// `who` is called only to name the element of a refused vertex.
+template <class Who>
+void checkVertex(const Point3& p, uint32_t vi, Who&& who) {
+    for (double c : {p.x, p.y, p.z})
+        if (!(std::abs(c) <= kMaxGeometryM))
+            throw InputError(fmt::format("{}: vertex {} at ({}, {}, {}) lies beyond {:g} m from the origin; geometry must "
+                                         "be finite and within {:g} m in each coordinate",
+                                         who(), vi, p.x, p.y, p.z, kMaxGeometryM, kMaxGeometryM));
+}
 }  // namespace
 
 unsigned EmbreeScene::Impl::attach(RTCGeometry g) {
@@ -234,6 +246,8 @@ void EmbreeScene::Impl::addMesh(const ir::Mesh& mesh, size_t mi) {
     meshes[mi].mesh = &m;
     meshes[mi].normal.resize(m.triangles.size());
     meshes[mi].offset.resize(m.triangles.size());
+    for (uint32_t vi = 0; vi < m.positions.size(); ++vi)
+        checkVertex(m.positions[vi], vi, [&] { return fmt::format("mesh '{}'", mesh.name); });
     for (size_t f = 0; f < m.triangles.size(); ++f) {
         const auto& t = m.triangles[f];
         for (int k = 0; k < 3; ++k)
@@ -266,6 +280,11 @@ void EmbreeScene::Impl::addInstance(const ir::SceneIR& ir, size_t ii) {
     instances.push_back(x);
     const TriMesh& m = ir.meshes[mi].data;
     if (m.triangles.empty()) return;
+    for (uint32_t vi = 0; vi < m.positions.size(); ++vi) {
+        checkVertex(m.positions[vi], vi, [&] { return fmt::format("mesh '{}'", in.mesh); });
+        checkVertex(worldVertex(static_cast<int>(ii), m, vi), vi,
+                    [&] { return fmt::format("instances[{}] (mesh '{}', placed)", ii, in.mesh); });
+    }
     if (!meshScenes[mi]) {
         RTCScene sub = rtcNewScene(device);
         rtcSetSceneFlags(sub, RTC_SCENE_FLAG_ROBUST);

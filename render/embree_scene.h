@@ -49,6 +49,9 @@ struct RayLog {
 };
 void setThreadRayLog(RayLog* log);
 
+// Mesh vertices (placed, for instances) must lie within this distance of the origin in each
+// coordinate; farther, single-precision bounds overflow or keep no useful precision (1 m at 1e7).
+inline constexpr double kMaxGeometryM = 1e7;
 // Distance by which spawned rays are pushed off their surface (see the header comment).
 // 2^-18: 64 float ulp of the coordinate scale.
 inline constexpr double kOffsetRelative = 0x1.0p-18;

@@ -39,12 +39,12 @@ double wrapInto(double v, double lo, double period) { return v - period * std::f
 
 }  // namespace
 
-FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const Vec3& sunDir, double halfAngle)
+FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vector<bool>& skyMedia, const Vec3& sunDir,
+                       double halfAngle)
     : eta_(1.0 / n), periodic_(scene.domain().periodic) {
     const ir::Domain& dom = scene.domain();
     px_ = dom.x1 - dom.x0, py_ = dom.y1 - dom.y0;
-    const auto& media = scene.media();
-    auto sky = [&](int m) { return media[static_cast<size_t>(m)].n(0) == 1.0 && !media[static_cast<size_t>(m)].attenuating(); };
+    auto sky = [&](int m) { return skyMedia[static_cast<size_t>(m)]; };
     const double minCos = -std::sin(std::min(0.5, halfAngle * kRimMargin));
     scene.geometry().forEachTriangle([&](int mesh, int inst, uint32_t face, const Point3& a, const Point3& b,
                                          const Point3& c) {
@@ -69,7 +69,7 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const Vec3& sun
         if (dot(nAir, sunDir) <= minCos) return;  // the disc cannot light this side
         const double extent = std::max({std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x}),
                                         std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})});
-        facets_.push_back({a, b, c, nAir, mesh, inst, face, extent > 0.25 * std::min(px_, py_)});
+        facets_.push_back({a, b, c, nAir, mesh, inst, face, extent, extent > 0.25 * std::min(px_, py_)});
     });
     if (!facets_.empty()) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
 }
@@ -159,9 +159,7 @@ void FacetBeams::build(const Vec3& sunDir, double halfAngle, double zBottom, con
             maxDrift = std::max({maxDrift, std::abs(drifts.k[i][k].x), std::abs(drifts.k[i][k].y)});
         }
         zTop = std::max({zTop, f.a.z, f.b.z, f.c.z});
-        const double w = std::max({f.a.x, f.b.x, f.c.x}) - std::min({f.a.x, f.b.x, f.c.x});
-        const double h = std::max({f.a.y, f.b.y, f.c.y}) - std::min({f.a.y, f.b.y, f.c.y});
-        sizeSum += std::max(w, h);
+        sizeSum += f.extent;
     }
     zTop_ = zTop;
     zBottom = std::min(zBottom, zTop - 1e-3);
@@ -169,14 +167,11 @@ void FacetBeams::build(const Vec3& sunDir, double halfAngle, double zBottom, con
     double x0 = dom.x0, x1 = dom.x1, y0 = dom.y0, y1 = dom.y1;
     if (!periodic_) {
         x0 = y0 = ir::kInfinity, x1 = y1 = -ir::kInfinity;
-        for (size_t i = 0; i < facets_.size(); ++i)
-            for (const Point3& v : {facets_[i].a, facets_[i].b, facets_[i].c})
-                for (const Vec2& k : drifts.k[i])
-                    for (const double z : {zTop, zBottom}) {
-                        if (std::isnan(k.x)) continue;
-                        const double sx = v.x - v.z * k0x_ + (z - v.z) * k.x, sy = v.y - v.z * k0y_ + (z - v.z) * k.y;
-                        x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
-                    }
+        for (size_t i = 0; i < facets_.size(); ++i) {
+            const BeamFacet& f = facets_[i];
+            const auto b = footprint(i, drifts, zBottom, std::min({zTop, std::max({f.a.z, f.b.z, f.c.z})}));
+            x0 = std::min(x0, b[0]), x1 = std::max(x1, b[1]), y0 = std::min(y0, b[2]), y1 = std::max(y1, b[3]);
+        }
         if (!(x1 >= x0)) x0 = x1 = y0 = y1 = 0;
     }
     x0_ = x0, y0_ = y0;
@@ -206,6 +201,21 @@ void FacetBeams::build(const Vec3& sunDir, double halfAngle, double zBottom, con
                nz_, slab_, nx_, ny_, cellX_, entries_.size());
 }
 
+std::array<double, 4> FacetBeams::footprint(size_t i, const Drifts& drifts, double zLo, double zHi) const {
+    // Vertex v's beam along a direction of drift k reaches depth z at sigma = v.xy - v.z k0 + (z - v.z) k:
+    // affine in z, so the slab's two ends bound it.
+    const BeamFacet& f = facets_[i];
+    std::array<double, 4> box{ir::kInfinity, -ir::kInfinity, ir::kInfinity, -ir::kInfinity};
+    for (const Point3& v : {f.a, f.b, f.c})
+        for (const Vec2& k : drifts.k[i])
+            for (const double z : {zLo, zHi}) {
+                if (std::isnan(k.x)) continue;
+                const double sx = v.x - v.z * k0x_ + (z - v.z) * k.x, sy = v.y - v.z * k0y_ + (z - v.z) * k.y;
+                box = {std::min(box[0], sx), std::max(box[1], sx), std::min(box[2], sy), std::max(box[3], sy)};
+            }
+    return box;
+}
+
 // Lists every facet in the cells its footprint overlaps in every slab below its top: counting
 // into offsets_[k + 1] (count), or writing entries_ at offsets_[k] onward (the offsets advance and
 // are restored at the end).
@@ -218,14 +228,7 @@ void FacetBeams::fill(const Drifts& drifts, bool count) {
         for (int s = 0; s < nz_; ++s) {
             const double zb = zTop_ - s * slab_, za = zb - slab_;
             if (za >= fTop) continue;  // the whole slab lies above this facet
-            double x0 = ir::kInfinity, x1 = -ir::kInfinity, y0 = ir::kInfinity, y1 = -ir::kInfinity;
-            for (const Point3& v : {f.a, f.b, f.c})
-                for (const Vec2& k : drifts.k[i])
-                    for (const double z : {za, std::min(zb, fTop)}) {
-                        if (std::isnan(k.x)) continue;
-                        const double sx = v.x - v.z * k0x_ + (z - v.z) * k.x, sy = v.y - v.z * k0y_ + (z - v.z) * k.y;
-                        x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
-                    }
+            const auto [x0, x1, y0, y1] = footprint(i, drifts, za, std::min(zb, fTop));
             if (!(x1 >= x0)) continue;
             // Cells overlapped (a hair wider, for points on a cell's edge), wrapped when periodic.
             const double e = 1e-9 * (1 + std::abs(x0) + std::abs(y0));

@@ -17,6 +17,7 @@
 // any direction of the solar disc, overlaps each cell. A query looks up one cell and tests its few
 // candidates exactly. In a horizontally periodic domain sigma wraps around the domain's period (a
 // beam that leaves through a side wall comes back through the opposite one).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,15 +33,18 @@ struct BeamFacet {
     Normal3 nAir;    // unit normal on the air side
     int mesh = -1, instance = -1;
     uint32_t face = 0;
+    double extent = 0;   // the larger side of its plan-view bounding box, m
     bool large = false;  // wider than a quarter of the domain's period (periodic images are all tested)
 };
 
 class FacetBeams {
 public:
     // The beams into `medium` (index n, the sun toward `sunDir` with half-angle `halfAngle`) from
-    // every smooth interface facet whose other side is a sky medium (index 1, not attenuating) and
-    // whose air side the disc can light. Empty if there is none.
-    FacetBeams(const Scene& scene, int medium, double n, const Vec3& sunDir, double halfAngle);
+    // every smooth interface facet whose other side is a sky medium (sky[m]: the media the sun
+    // shines through, SunConnection's rule) and whose air side the disc can light. Empty if there
+    // is none.
+    FacetBeams(const Scene& scene, int medium, double n, const std::vector<bool>& sky, const Vec3& sunDir,
+               double halfAngle);
     bool empty() const { return facets_.empty(); }
     // Does the medium share a smooth interface with another dense medium (a dielectric object in
     // the water)? Light through it reaches a point along two or more refractions, which the beams
@@ -67,6 +71,9 @@ private:
     // Per facet, the drift k - k0 of each of the disc directions' beams (NaN where one misses).
     struct Drifts;
     void fill(const Drifts& drifts, bool count);
+    // The plan-view box, in the sheared plane, of facet i's beams between depths zLo and zHi for
+    // every disc direction: {x0, x1, y0, y1}, empty (x1 < x0) if no direction makes a beam.
+    std::array<double, 4> footprint(size_t i, const Drifts& drifts, double zLo, double zHi) const;
 
     std::vector<BeamFacet> facets_;
     double eta_ = 1;        // 1 / n: air over the medium

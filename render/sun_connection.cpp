@@ -1,7 +1,9 @@
 #include "render/sun_connection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/units.h"
@@ -52,11 +54,13 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
     }
     // Facet beams into every denser medium that is not under a rough interface.
     beams_.resize(nm);
+    std::vector<bool> sky(nm);
+    for (size_t m = 0; m < nm; ++m) sky[m] = skyMedium(static_cast<int>(m));
     const SunSource& sun = scene.sun();
     for (size_t m = 0; m < nm && sun.enabled; ++m) {
-        if (skyMedium(static_cast<int>(m)) || roughSunMaterial_[m] >= 0) continue;
-        auto b = std::make_unique<FacetBeams>(scene, static_cast<int>(m), scene.media()[m].n(group.begin), sun.direction,
-                                              sun.halfAngle);
+        if (sky[m] || roughSunMaterial_[m] >= 0) continue;
+        auto b = std::make_unique<FacetBeams>(scene, static_cast<int>(m), scene.media()[m].n(group.begin), sky,
+                                              sun.direction, sun.halfAngle);
         if (!b->empty() && !b->hasObjects()) beams_[m] = std::move(b);
     }
 }
@@ -285,15 +289,26 @@ SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3&
 SunBeam SunConnection::beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
                                   double uPick) const {
     const FacetBeams& fb = *beamsInto(medium);
-    const int beams = fb.forEachContaining(p, ws, [](int, const Vec3&, double) {});
-    if (beams == 0) return none();
-    // One of the beams, uniformly: the estimate is weighted by their number (beamAlong).
-    const int pick = std::min(beams - 1, static_cast<int>(uPick * beams));
-    int k = 0, facet = -1;
-    Vec3 d;
-    fb.forEachContaining(p, ws, [&](int f, const Vec3& df, double) {
-        if (k++ == pick) facet = f, d = df;
+    // One of the beams, uniformly: the estimate is weighted by their number (beamAlong). They are
+    // kept as they are found; only where more than kKept overlap (a strong caustic) is the lookup
+    // repeated to reach the one picked.
+    constexpr int kKept = 16;
+    std::array<std::pair<int, Vec3>, kKept> kept;
+    const int beams = fb.forEachContaining(p, ws, [&, n = 0](int f, const Vec3& df, double) mutable {
+        if (n < kKept) kept[static_cast<size_t>(n++)] = {f, df};
     });
+    if (beams == 0) return none();
+    const int pick = std::min(beams - 1, static_cast<int>(uPick * beams));
+    int facet = -1;
+    Vec3 d;
+    if (pick < kKept) {
+        std::tie(facet, d) = kept[static_cast<size_t>(pick)];
+    } else {
+        int k = 0;
+        fb.forEachContaining(p, ws, [&](int f, const Vec3& df, double) {
+            if (k++ == pick) facet = f, d = df;
+        });
+    }
     if (facet < 0) return none();
     const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
     if (checkFacing && dot(-d, facing) <= 0) return none();

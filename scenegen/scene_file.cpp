@@ -691,6 +691,75 @@ void checkOutputFiles(const SceneSpec& spec, const YamlNode& root) {
                            spec.sensors[clash->second].name, clash->file));
 }
 
+// Fails at `where` unless `sp` is tabulated over every band.
+void checkCover(const std::vector<Band>& bands, const Spectrum& sp, const YamlNode& where, const std::string& what) {
+    for (const auto& b : bands)
+        if (!sp.covers(b.lo, b.hi))
+            where.fail(fmt::format("{} is tabulated over [{}, {}] um, which does not cover the band [{}, {}] um", what,
+                                   sp.minWavelength(), sp.maxWavelength(), b.lo, b.hi));
+}
+
+// The water's layers (the single IOP set when there are no layers).
+std::vector<const LayerOptics*> waterLayers(const WaterOptics& o) {
+    if (o.layers.empty()) return {&o.iops};
+    std::vector<const LayerOptics*> all;
+    for (const auto& l : o.layers) all.push_back(&l);
+    return all;
+}
+
+void checkSpectraCoverBands(const SceneSpec& spec, const YamlNode& root) {
+    const auto& bands = spec.render.settings.bands;
+    if (auto ms = root.optional("materials"))
+        for (size_t i = 0; i < spec.materials.size(); ++i) {
+            const MaterialSection& m = spec.materials[i];
+            checkCover(bands, m.reflectance, ms->at(i), "reflectance of '" + m.name + "'");
+            if (m.refractiveIndex)
+                checkCover(bands, *m.refractiveIndex, ms->at(i), "refractive index of '" + m.name + "'");
+            checkCover(bands, m.absorption, ms->at(i), "absorption of '" + m.name + "'");
+        }
+    if (auto w = root.optional("water")) {
+        const auto& o = spec.waterOptics;
+        for (const LayerOptics* l : waterLayers(o)) {
+            checkCover(bands, l->absorption, *w, "water absorption");
+            for (const auto& sc : l->scatterers)
+                checkCover(bands, sc.scattering, *w, "water scattering (" + sc.name + ")");
+        }
+        checkCover(bands, o.refractiveIndex, *w, "water refractive index");
+    }
+    if (spec.sun.irradiance) checkCover(bands, *spec.sun.irradiance, root["sun"], "sun irradiance");
+    // Without a sky section the radiance is the constant 0 (docs/scene-format.md): nothing to cover.
+    if (spec.sky.radiance && root.has("sky")) checkCover(bands, *spec.sky.radiance, root["sky"], "sky radiance");
+}
+
+void checkWaterOptics(const SceneSpec& spec, const YamlNode& w) {
+    const auto& bands = spec.render.settings.bands;
+    const auto& o = spec.waterOptics;
+    // A rough surface refracts between different indices only (render/rough_dielectric.h):
+    // water of the air's index leaves it nothing to be rough between, and the renderer would
+    // refuse the interface.
+    if (auto surface = w.optional("surface"); surface && surface->has("roughness")) {
+        const std::vector<double> n = o.refractiveIndex.bandAverages(bands, "water refractive index");
+        for (size_t b = 0; b < n.size(); ++b)
+            if (std::abs(n[b] - 1.0) <= 1e-6)
+                (*surface)["roughness"].fail(fmt::format(
+                    "a rough surface needs water of another refractive index than the air's (1), but "
+                    "water.optics.refractive_index is {} in band {} ([{}, {}] um); remove the roughness or give "
+                    "the water its index",
+                    n[b], b, bands[b].lo, bands[b].hi));
+    }
+    // Every accepted setting is read: a phase function written in the file is used only where
+    // light is scattered rather than lost: by the path estimator, or by the dirsig estimator's
+    // MediumPM solver (without it, dirsig treats scattering as loss, Beer–Lambert with c = a + b).
+    if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver.empty())
+        for (const LayerOptics* l : waterLayers(o))
+            if (l->phaseGiven)
+                throw InputError(l->loc, fmt::format("water.optics {}: not used: the dirsig estimator treats "
+                                                     "scattering as loss (Beer–Lambert with c = a + b) unless "
+                                                     "water.optics.solver is medium-pm; use render.estimator: path, "
+                                                     "the medium-pm solver, or remove '{}'",
+                                                     l->phaseKey, l->phaseKey));
+}
+
 }  // namespace
 
 SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
@@ -730,58 +799,8 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
     spec.textureClasses = root.optional("texture_classes");
 
     // Every spectrum must cover every band: checked here so the error names the scene file.
-    const auto& bands = spec.render.settings.bands;
-    auto checkCover = [&](const Spectrum& sp, const YamlNode& where, const std::string& what) {
-        for (const auto& b : bands)
-            if (!sp.covers(b.lo, b.hi))
-                where.fail(fmt::format("{} is tabulated over [{}, {}] um, which does not cover the band [{}, {}] um",
-                                       what, sp.minWavelength(), sp.maxWavelength(), b.lo, b.hi));
-    };
-    if (auto ms = root.optional("materials"))
-        for (size_t i = 0; i < spec.materials.size(); ++i) {
-            const MaterialSection& m = spec.materials[i];
-            checkCover(m.reflectance, ms->at(i), "reflectance of '" + m.name + "'");
-            if (m.refractiveIndex) checkCover(*m.refractiveIndex, ms->at(i), "refractive index of '" + m.name + "'");
-            checkCover(m.absorption, ms->at(i), "absorption of '" + m.name + "'");
-        }
-    if (auto w = root.optional("water")) {
-        const auto& o = spec.waterOptics;
-        std::vector<const LayerOptics*> all = {&o.iops};
-        if (!o.layers.empty()) all.clear();
-        for (const auto& l : o.layers) all.push_back(&l);
-        for (const LayerOptics* l : all) {
-            checkCover(l->absorption, *w, "water absorption");
-            for (const auto& sc : l->scatterers) checkCover(sc.scattering, *w, "water scattering (" + sc.name + ")");
-        }
-        checkCover(o.refractiveIndex, *w, "water refractive index");
-        // A rough surface refracts between different indices only (render/rough_dielectric.h):
-        // water of the air's index leaves it nothing to be rough between, and the renderer would
-        // refuse the interface.
-        if (auto surface = w->optional("surface"); surface && surface->has("roughness")) {
-            const std::vector<double> n = o.refractiveIndex.bandAverages(bands, "water refractive index");
-            for (size_t b = 0; b < n.size(); ++b)
-                if (std::abs(n[b] - 1.0) <= 1e-6)
-                    (*surface)["roughness"].fail(fmt::format(
-                        "a rough surface needs water of another refractive index than the air's (1), but "
-                        "water.optics.refractive_index is {} in band {} ([{}, {}] um); remove the roughness or give "
-                        "the water its index",
-                        n[b], b, bands[b].lo, bands[b].hi));
-        }
-        // Every accepted setting is read: a phase function written in the file is used only where
-        // light is scattered rather than lost: by the path estimator, or by the dirsig estimator's
-        // MediumPM solver (without it, dirsig treats scattering as loss, Beer–Lambert with c = a + b).
-        if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver.empty())
-            for (const LayerOptics* l : all)
-                if (l->phaseGiven)
-                    throw InputError(l->loc, fmt::format("water.optics {}: not used: the dirsig estimator treats "
-                                                         "scattering as loss (Beer–Lambert with c = a + b) unless "
-                                                         "water.optics.solver is medium-pm; use render.estimator: path, "
-                                                         "the medium-pm solver, or remove '{}'",
-                                                         l->phaseKey, l->phaseKey));
-    }
-    if (spec.sun.irradiance) checkCover(*spec.sun.irradiance, root["sun"], "sun irradiance");
-    // Without a sky section the radiance is the constant 0 (docs/scene-format.md): nothing to cover.
-    if (spec.sky.radiance && root.has("sky")) checkCover(*spec.sky.radiance, root["sky"], "sky radiance");
+    checkSpectraCoverBands(spec, root);
+    if (auto w = root.optional("water")) checkWaterOptics(spec, *w);
     return spec;
 }
 

@@ -286,6 +286,12 @@ const std::vector<IrCase>& irCases() {
                                             {"translation_m", {0, 0, 0}}}});
          },
          "instances[0] (mesh 'water'): a column of the rotation has length 0"},
+        {"instance_far_away", "an instance translated by 1e30 m (rendered silently, far outside the domain)",
+         [](Json& j) {
+             j["instances"] = Json::array({{{"mesh", "water"}, {"rotation", Json::array({1, 0, 0, 0, 1, 0, 0, 0, 1})},
+                                            {"translation_m", {1e30, 0, 0}}}});
+         },
+         "instances[0] (mesh 'water', placed): vertex 0 at (1e+30"},
         {"nothing_to_render", "`sensors: []` and `probes: []`",
          [](Json& j) {
              j["sensors"] = Json::array();

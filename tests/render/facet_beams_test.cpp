@@ -37,40 +37,6 @@ Vec3 snell(const Vec3& i, const Vec3& n, double eta) {
     return normalize(i * eta + n * (eta * c - std::sqrt(1 - s2)));
 }
 
-// A closed, horizontally periodic water body over [-L, L]^2 whose top is the height field h(x, y)
-// (periodic over 2L) on an n x n grid, its floor at z = -depth: top slot 0, floor slot 1, side walls
-// slot 2.
-template <class H> TriMesh heightSlab(double L, double depth, int n, H h) {
-    TriMesh m;
-    auto x = [&](int i) { return -L + 2 * L * i / n; };
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.positions.push_back({x(i), x(j), h(x(i), x(j))});
-    const uint32_t base = static_cast<uint32_t>(m.positions.size());
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.positions.push_back({x(i), x(j), -depth});
-    auto top = [&](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
-    auto bot = [&](int i, int j) { return base + top(i, j); };
-    auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d, uint16_t slot) {
-        m.triangles.push_back({a, b, c});
-        m.triangles.push_back({a, c, d});
-        m.faceMaterial.push_back(slot);
-        m.faceMaterial.push_back(slot);
-    };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            quad(top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1), 0);
-            quad(bot(i, j), bot(i, j + 1), bot(i + 1, j + 1), bot(i + 1, j), 1);
-        }
-    for (int k = 0; k < n; ++k) {
-        quad(top(k, 0), bot(k, 0), bot(k + 1, 0), top(k + 1, 0), 2);
-        quad(top(k + 1, n), bot(k + 1, n), bot(k, n), top(k, n), 2);
-        quad(top(0, k + 1), bot(0, k + 1), bot(0, k), top(0, k), 2);
-        quad(top(n, k), bot(n, k), bot(n, k + 1), top(n, k + 1), 2);
-    }
-    orientAway(m, {0, 0, -0.5 * depth});  // outward (the slab is convex enough for small slopes)
-    return m;
-}
-
 ir::SceneIR wavyScene(double L, double depth, int n, double a) {
     ir::SceneIR s;
     s.name = "facet-beams";
@@ -83,15 +49,9 @@ ir::SceneIR wavyScene(double L, double depth, int n, double a) {
     s.sky.radiance = Spectrum::constant(0.0);
     s.domain = {-L, L, -L, L, true};
     s.media.push_back(water(a, 0, kN));
-    ir::Material surface;
-    surface.name = "surface";
-    surface.type = M::Type::Dielectric;
-    s.materials.push_back(surface);
+    s.materials.push_back(typedMaterial("surface", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
-    ir::Material wall;
-    wall.name = "periodic-wall";
-    wall.type = M::Type::Periodic;
-    s.materials.push_back(wall);
+    s.materials.push_back(typedMaterial("periodic-wall", M::Type::Periodic));
     const double k = kPi / L;  // one wavelength over the domain in x, one in y
     auto h = [k](double x, double y) {
         return 0.12 * std::sin(k * x) + 0.07 * std::sin(k * y + 0.7) + 0.04 * std::sin(2 * k * (x + y) + 0.3);
@@ -196,10 +156,7 @@ TEST(FacetBeams, SingleTiltedFacetGivesTheAnalyticBeam) {
     s.sky.radiance = Spectrum::constant(0.0);
     s.domain = {-2, 2, -2, 2, false};
     s.media.push_back(water(a, 0, kN));
-    ir::Material surface;
-    surface.name = "surface";
-    surface.type = M::Type::Dielectric;
-    s.materials.push_back(surface);
+    s.materials.push_back(typedMaterial("surface", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     TriMesh body = box({-2, -2, -3}, {2, 2, 0}, 0, 1);
     for (Point3& v : body.positions)

@@ -77,3 +77,24 @@ TEST(InstanceTransform, RotationsScalesAndMirrorsAreAccepted) {
         EXPECT_NEAR(h.p.z, (*R)[8], 1e-9 * std::max(1.0, (*R)[8]));
     }
 }
+
+// A vertex far beyond the scene (a hand-edited PLY or a translation of 1e30, both found by
+// fuzz_ir_render as Embree SIGABRTs) is a located error: geometry must lie within kMaxGeometryM.
+TEST(InstanceTransform, FarVerticesAndTranslationsAreLocatedErrors) {
+    const double ok[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const std::string farMove = errorOf(sceneWithInstance(ok, {1e30, 0, 0}));
+    EXPECT_NE(farMove.find("instances[0] (mesh 'cube', placed): vertex 0 at (1e+30"), std::string::npos) << farMove;
+    EXPECT_NE(farMove.find("within 1e+07 m in each coordinate"), std::string::npos) << farMove;
+    // Just inside the bound it is accepted: 9e6 m east is a far but legal placement.
+    EXPECT_EQ(errorOf(sceneWithInstance(ok, {9e6, 0, 0})), "");
+
+    ir::SceneIR s = uniformSkyScene();
+    s.materials.push_back(material("grey", ir::Material::Type::Lambertian, ir::Material::Solver::Classic, 0.5));
+    s.meshes.push_back(meshOf("floor", box({-0.5, -0.5, 0}, {0.5, 0.5, 1}), {"grey"}, "", "", true));
+    s.meshes.back().data.positions[3].z = -1e20;
+    const std::string farVertex = errorOf(s);
+    EXPECT_NE(farVertex.find("mesh 'floor': vertex 3 at (") , std::string::npos) << farVertex;
+    EXPECT_NE(farVertex.find("-1e+20) lies beyond 1e+07 m"), std::string::npos) << farVertex;
+    s.meshes.back().data.positions[3].z = std::numeric_limits<double>::infinity();
+    EXPECT_NE(errorOf(s).find("mesh 'floor': vertex 3 at"), std::string::npos) << errorOf(s);
+}

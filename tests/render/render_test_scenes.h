@@ -122,6 +122,14 @@ inline ir::Material material(const std::string& name, ir::Material::Type type, i
     return m;
 }
 
+// A material with its type only: no solver, no reflectance (interfaces and periodic walls).
+inline ir::Material typedMaterial(const std::string& name, ir::Material::Type type) {
+    ir::Material m;
+    m.name = name;
+    m.type = type;
+    return m;
+}
+
 inline ir::Medium water(double a, double b, double n = 1.34, ir::PhaseFunction phase = {}) {
     return ir::Medium::homogeneous("water", n, Spectrum::constant(a), Spectrum::constant(b), phase);
 }
@@ -212,20 +220,48 @@ inline TriMesh periodicSlab(double L, double depth) {
     return m;
 }
 
+// A closed, horizontally periodic water body over [-L, L]^2 whose top is the height field h(x, y)
+// (periodic over 2L) on an n x n grid, its floor at z = -depth: top slot 0, floor slot 1, side walls
+// slot 2.
+template <class H> TriMesh heightSlab(double L, double depth, int n, H h) {
+    TriMesh m;
+    auto x = [&](int i) { return -L + 2 * L * i / n; };
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) m.positions.push_back({x(i), x(j), h(x(i), x(j))});
+    const uint32_t base = static_cast<uint32_t>(m.positions.size());
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) m.positions.push_back({x(i), x(j), -depth});
+    auto top = [&](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+    auto bot = [&](int i, int j) { return base + top(i, j); };
+    auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d, uint16_t slot) {
+        m.triangles.push_back({a, b, c});
+        m.triangles.push_back({a, c, d});
+        m.faceMaterial.push_back(slot);
+        m.faceMaterial.push_back(slot);
+    };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            quad(top(i, j), top(i + 1, j), top(i + 1, j + 1), top(i, j + 1), 0);
+            quad(bot(i, j), bot(i, j + 1), bot(i + 1, j + 1), bot(i + 1, j), 1);
+        }
+    for (int k = 0; k < n; ++k) {
+        quad(top(k, 0), bot(k, 0), bot(k + 1, 0), top(k + 1, 0), 2);
+        quad(top(k + 1, n), bot(k + 1, n), bot(k, n), top(k, n), 2);
+        quad(top(0, k + 1), bot(0, k + 1), bot(0, k), top(0, k), 2);
+        quad(top(n, k), bot(n, k), bot(n, k + 1), top(n, k + 1), 2);
+    }
+    orientAway(m, {0, 0, -0.5 * depth});  // outward (the slab is convex enough for small slopes)
+    return m;
+}
+
 // Adds a periodic water slab (surface material "surface" Dielectric, floor `floorMaterial`, walls
 // "periodic-wall") to `s`, with the domain set to match.
 inline void addPeriodicSlab(ir::SceneIR& s, const ir::Medium& water, double L, double depth,
                             const std::string& floorMaterial) {
     s.domain = {-L, L, -L, L, true};
     s.media.push_back(water);
-    ir::Material surface;
-    surface.name = "surface";
-    surface.type = ir::Material::Type::Dielectric;
-    ir::Material wall;
-    wall.name = "periodic-wall";
-    wall.type = ir::Material::Type::Periodic;
-    s.materials.push_back(surface);
-    s.materials.push_back(wall);
+    s.materials.push_back(typedMaterial("surface", ir::Material::Type::Dielectric));
+    s.materials.push_back(typedMaterial("periodic-wall", ir::Material::Type::Periodic));
     s.meshes.push_back(meshOf("water", periodicSlab(L, depth), {"surface", floorMaterial, "periodic-wall"}, water.name,
                               "", true));
 }
