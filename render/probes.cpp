@@ -209,6 +209,8 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     for (size_t qi = 0; qi < probe.quantities.size(); ++qi) {
         const Quantity q = parseQuantity(probe.quantities[qi], who);
         ProbeValue v = emptyValue(probe.name, probe.quantities[qi], q, nb, perBatch * B, B);
+        v.position = probe.position;
+        v.medium = probe.medium.empty() ? "air" : probe.medium;
         const bool up = q == Quantity::Ed || q == Quantity::Eod;
         const Normal3 n{0, 0, up ? 1.0 : -1.0};
         const Medium& md = scene.media()[medium];
@@ -261,11 +263,12 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe
 }
 
 std::string probesCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands) {
-    std::string s = "probe,quantity,band_lo_um,band_hi_um,value,stderr,units\n";
+    std::string s = "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches\n";
     for (const ProbeValue& v : values)
         for (size_t b = 0; b < bands.size(); ++b)
-            s += fmt::format("{},{},{},{},{:.9g},{:.9g},{}\n", v.probe, v.quantity, bands[b].lo, bands[b].hi,
-                             v.mean[b], v.stderr_[b], v.units);
+            s += fmt::format("{},{},{},{},{:.9g},{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", v.probe, v.quantity,
+                             bands[b].lo, bands[b].hi, v.mean[b], v.stderr_[b], v.units, v.position.x, v.position.y,
+                             v.position.z, v.medium, v.samples, v.batches);
     return s;
 }
 
@@ -278,6 +281,8 @@ std::string probesJson(const std::vector<ProbeValue>& values, const std::vector<
         j["probes"].push_back({{"probe", v.probe},
                                {"quantity", v.quantity},
                                {"units", v.units},
+                               {"position_m", {v.position.x, v.position.y, v.position.z}},
+                               {"medium", v.medium},
                                {"value", v.mean},
                                {"stderr", v.stderr_},
                                {"samples", v.samples},

@@ -33,6 +33,8 @@ namespace littoral::render {
 struct ProbeValue {
     std::string probe, quantity;
     std::string units;                // W m^-2 um^-1 (irradiances) or W m^-2 sr^-1 um^-1 (Lu)
+    Point3 position;                  // the probe's position, m
+    std::string medium;               // the medium it reads in ("air" or a medium name)
     std::vector<double> mean, stderr_;  // per render band
     int samples = 0, batches = 0;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -188,6 +189,64 @@ void checkSurfaceCoverage(const surfaces::WaveParams& w, const bathymetry::Exten
                                             x0, x1, y0, y1, d.x0, d.x1, d.y0, d.y1));
 }
 
+namespace {
+// The closed water volumes of the IR, and the height band their air-water faces span: below it a
+// point is in water (or under the seabed, or in an object: checked apart), above it in air, and
+// only within it does the volume need the exact inside test.
+struct WaterVolumes {
+    std::vector<const TriMesh*> meshes;
+    double zLo = std::numeric_limits<double>::infinity(), zHi = -std::numeric_limits<double>::infinity();
+
+    explicit WaterVolumes(const ir::SceneIR& ir) {
+        for (const ir::Mesh& m : ir.meshes) {
+            if (m.inside != "water" || !m.closed) continue;
+            meshes.push_back(&m.data);
+            for (size_t f = 0; f < m.data.triangles.size(); ++f) {
+                const size_t slot = m.data.materialOf(f);
+                if (slot >= m.materials.size() || m.materials[slot] != "air-water-interface") continue;
+                for (uint32_t v : m.data.triangles[f]) {
+                    zLo = std::min(zLo, m.data.positions[v].z);
+                    zHi = std::max(zHi, m.data.positions[v].z);
+                }
+            }
+        }
+        if (zLo > zHi) {  // no face named as the interface: test every point exactly
+            zLo = -std::numeric_limits<double>::infinity();
+            zHi = std::numeric_limits<double>::infinity();
+        }
+    }
+    bool contains(const Point3& p) const {
+        if (p.z < zLo) return true;
+        if (p.z > zHi) return false;
+        for (const TriMesh* m : meshes)
+            if (insideClosedMesh(*m, p)) return true;
+        return false;
+    }
+};
+
+// Under waves the mean water level does not say which medium a probe is in: a probe below the
+// mean level in a trough is in air, one above it in a crest is in water. The closed water volume
+// decides, and a probe whose medium (given, or taken from the mean level) disagrees is refused.
+void checkProbeMedium(const SceneSpec& spec, const WaterVolumes& water, const ProbeSection& section,
+                      const ir::Probe& p, const std::string& who) {
+    if (!spec.hasWater || water.meshes.empty()) return;
+    const bool inWater = water.contains(p.position), declaredWater = p.medium == "water";
+    if (inWater == declaredWater) return;
+    const std::string why = section.medium == "auto"
+                                ? fmt::format("taken from the mean water level {:.6g} m", spec.waterLevel)
+                                : fmt::format("medium: {}", section.medium);
+    if (declaredWater)
+        throw InputError(section.loc, fmt::format("{} at {} lies in air above the water surface{}, but its medium is "
+                                                  "water ({}); move it deeper, or give medium: air",
+                                                  who, vecText(p.position),
+                                                  p.position.z < spec.waterLevel ? " (a wave trough there)" : "", why));
+    throw InputError(section.loc, fmt::format("{} at {} lies in the water{}, but its medium is air ({}); move it, or "
+                                              "give medium: water",
+                                              who, vecText(p.position),
+                                              p.position.z > spec.waterLevel ? " (a wave crest there)" : "", why));
+}
+}  // namespace
+
 void checkSensorsAndProbes(const SceneSpec& spec, const ir::SceneIR& ir, const std::vector<ObjectSpec>& objectSpecs,
                            const std::vector<const TriMesh*>& objects,
                            const std::function<double(double, double)>& ground, const bathymetry::Extent& d) {
@@ -199,6 +258,7 @@ void checkSensorsAndProbes(const SceneSpec& spec, const ir::SceneIR& ir, const s
         return -1;
     };
     auto nameOf = [&](int i) { return objectSpecs[static_cast<size_t>(i)].name; };
+    const WaterVolumes water(ir);
     for (size_t k = 0; k < spec.sensors.size() && k < ir.sensors.size(); ++k) {
         const auto& s = ir.sensors[k];
         const SourceLoc& where = spec.sensors[k].loc;
@@ -236,6 +296,7 @@ void checkSensorsAndProbes(const SceneSpec& spec, const ir::SceneIR& ir, const s
             throw InputError(where, fmt::format("{} at {} is {:.3g} m under the seabed (terrain elevation {:.6g} m "
                                                 "there): it would measure nothing",
                                                 who, vecText(p.position), g - p.position.z, g));
+        checkProbeMedium(spec, water, spec.probes[k], p, who);
     }
 }
 

@@ -298,12 +298,11 @@ SensorSection parseSensor(const YamlNode& n) {
     return s;
 }
 
-ProbeSection parseProbe(const YamlNode& n) {
-    n.expectKeys({"name", "position", "quantities", "medium", "samples"});
+// The keys a probe entry shares with every probe of an array (name, quantities, medium, samples).
+ProbeSection parseProbeCommon(const YamlNode& n) {
     ProbeSection p;
     p.loc = n.loc();
     p.name = n["name"].asOutputName("probe");
-    p.position = parseVec3(n["position"]);
     // The quantities the renderer describes (render/probes.cpp, registered in core/kinds.h).
     const std::vector<std::string> allowed = probeQuantityKinds().names();
     if (allowed.empty()) n["quantities"].fail("no probe quantity is registered in this program (render::registerEstimatorKinds())");
@@ -312,6 +311,69 @@ ProbeSection parseProbe(const YamlNode& n) {
     p.medium = n.getEnum("medium", "auto", {"auto", "air", "water"});
     if (auto sm = n.optional("samples")) p.samples = static_cast<int>(sm->asInt(2, 1 << 30));
     return p;
+}
+
+// "name_07": the index zero-padded to the digits of the largest, so that names sort in order.
+std::string indexedName(const std::string& base, long long i, long long count) {
+    const int width = static_cast<int>(std::to_string(std::max(0LL, count - 1)).size());
+    return fmt::format("{}_{:0{}d}", base, i, width);
+}
+
+// A probe entry: one probe at `position`, or an array of them: `line` (a transect or a vertical
+// profile, `count` probes evenly spaced from `from` to `to`, both ends included) or `grid` (a
+// horizontal grid of count[0] x count[1] probes over the rectangle from `from` to `to` at their
+// common height). Array probes are named <name>_<i> (line) or <name>_<i>_<j> (grid, i along x).
+std::vector<ProbeSection> parseProbeEntry(const YamlNode& n) {
+    n.expectKeys({"name", "position", "line", "grid", "quantities", "medium", "samples"});
+    const ProbeSection common = parseProbeCommon(n);
+    const int given = int(n.has("position")) + int(n.has("line")) + int(n.has("grid"));
+    if (given != 1)
+        n.fail(fmt::format("probe '{}': give exactly one of 'position' (one probe), 'line' or 'grid' (an array); "
+                           "found {}",
+                           common.name, given));
+    if (auto pos = n.optional("position")) {
+        ProbeSection p = common;
+        p.position = parseVec3(*pos);
+        return {p};
+    }
+    const bool isGrid = n.has("grid");
+    const YamlNode a = n[isGrid ? "grid" : "line"];
+    a.expectKeys({"from", "to", "count"});
+    const Vec3 from = parseVec3(a["from"]), to = parseVec3(a["to"]);
+    std::vector<ProbeSection> out;
+    auto at = [&](double t) { return from + t * (to - from); };
+    if (!isGrid) {
+        const long long count = a["count"].asInt(2, kMaxArrayProbes);
+        if (length(to - from) <= 0) a["to"].fail("a line needs 'to' apart from 'from'");
+        for (long long i = 0; i < count; ++i) {
+            ProbeSection p = common;
+            p.name = indexedName(common.name, i, count);
+            p.position = at(double(i) / double(count - 1));
+            out.push_back(p);
+        }
+        return out;
+    }
+    const auto c = a["count"].asDoubleList(1, kMaxArrayProbes);
+    if (c.size() != 2 || c[0] != std::floor(c[0]) || c[1] != std::floor(c[1]))
+        a["count"].fail("expected [nx, ny]: two whole numbers, the probes along x and along y");
+    const long long nx = static_cast<long long>(c[0]), ny = static_cast<long long>(c[1]);
+    if (nx * ny > kMaxArrayProbes)
+        a["count"].fail(fmt::format("{} x {} = {} probes; at most {} in one array", nx, ny, nx * ny, kMaxArrayProbes));
+    if (from.z != to.z)
+        a["to"].fail(fmt::format("a grid is horizontal: 'from' and 'to' must have the same z (found {} and {}); use "
+                                 "'line' for a vertical profile",
+                                 from.z, to.z));
+    if ((nx > 1 && from.x == to.x) || (ny > 1 && from.y == to.y))
+        a["to"].fail("a grid with more than one probe along an axis needs 'from' and 'to' apart along it");
+    for (long long i = 0; i < nx; ++i)
+        for (long long j = 0; j < ny; ++j) {
+            ProbeSection p = common;
+            p.name = indexedName(indexedName(common.name, i, nx), j, ny);
+            p.position = {nx > 1 ? from.x + (to.x - from.x) * double(i) / double(nx - 1) : from.x,
+                          ny > 1 ? from.y + (to.y - from.y) * double(j) / double(ny - 1) : from.y, from.z};
+            out.push_back(p);
+        }
+    return out;
 }
 
 // A `materials` entry: its type (a scene-file material type of core/material_kinds.h) and the
@@ -665,12 +727,17 @@ void parseRender(const YamlNode& n, RenderSection* r) {
     parseRenderSettings(n, settings, &s);
 }
 
+// The scene-file entry of item i: an array entry makes many probes.
+template <class T>
+size_t entryOf(const T&, size_t i) { return i; }
+size_t entryOf(const ProbeSection& p, size_t) { return p.entry; }
+
 template <class T>
 void checkUniqueNames(const std::vector<T>& items, const char* what, const YamlNode& list) {
     std::set<std::string> seen;
     for (size_t i = 0; i < items.size(); ++i)
         if (!seen.insert(items[i].name).second)
-            list.at(i).fail(fmt::format("{} name '{}' is used twice", what, items[i].name));
+            list.at(entryOf(items[i], i)).fail(fmt::format("{} name '{}' is used twice", what, items[i].name));
 }
 
 // Every sensor writes S.exr, S_truth.exr, ... (core/output_names.h): two sensors must not write
@@ -784,7 +851,11 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         checkUniqueNames(spec.sensors, "sensor", *s);
     }
     if (auto s = root.optional("probes")) {
-        for (const auto& it : s->items()) spec.probes.push_back(parseProbe(it));
+        for (size_t i = 0; i < s->size(); ++i)
+            for (ProbeSection& p : parseProbeEntry(s->at(i))) {
+                p.entry = i;
+                spec.probes.push_back(std::move(p));
+            }
         checkUniqueNames(spec.probes, "probe", *s);
     }
     checkOutputFiles(spec, root);

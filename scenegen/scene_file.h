@@ -72,7 +72,10 @@ struct ProbeSection {
     std::vector<std::string> quantities;
     std::string medium = "auto";
     std::optional<int> samples;  // overrides render.probe_samples for this probe
+    size_t entry = 0;            // index of its `probes` entry (an array entry makes many probes)
 };
+// At most this many probes in one `line` or `grid` entry.
+inline constexpr long long kMaxArrayProbes = 100000;
 
 struct MaterialSection {
     std::string name;

@@ -116,7 +116,7 @@ const std::vector<Case>& cases() {
         {"probe_on_seabed", "a probe exactly on the seabed (its lower hemisphere would read 0)",
          "position: [0, 0, -1]", "position: [0, 0, -2]", ":10:5", "closer than 0.0001 m"},
         {"probe_wrong_medium", "a probe in air declared `medium: water`", "position: [0, 0, -1]",
-         "position: [0, 0, 1], medium: water", ":10:5", "declared in medium 'water'"},
+         "position: [0, 0, 1], medium: water", ":10:5", "lies in air above the water surface, but its medium is water (medium: water)"},
         {"probe_batches", "`probes[].samples` fewer than `render.probe_batches`", "quantities: [Ed]}",
          "quantities: [Ed], samples: 2}", ":10:5", "2 samples cannot form 16 batches"},
         {"probe_far_away", "a probe at z = 1e300 (Embree asserted on the ray origin: SIGABRT)", "position: [0, 0, -1]",

@@ -42,7 +42,7 @@ TEST(DocsExamples, SceneFormatExamplesAreValid) {
     const fs::path md = fs::path(LITTORAL_SOURCE_DIR) / "docs" / "scene-format.md";
     const auto blocks = yamlBlocks(md);
     ASSERT_FALSE(blocks.empty());
-    int scenes = 0, waters = 0;
+    int scenes = 0, waters = 0, probeArrays = 0;
     const fs::path dir = scratchDir("docs_examples", "scene_format");
     for (size_t i = 0; i < blocks.size(); ++i) {
         std::string text;
@@ -58,6 +58,14 @@ TEST(DocsExamples, SceneFormatExamplesAreValid) {
                    "materials:\n  - {name: bottom, type: lambertian, reflectance: 0.2}\n" +
                    blocks[i];
             ++waters;
+        } else if (blocks[i].rfind("probes:", 0) == 0) {
+            // The probe-array example: under flat water over the same seabed.
+            text = "scene: {name: doc-example, domain: {x: [-5, 5], y: [-5, 5]}}\nsky: {radiance: 1}\n"
+                   "water: {surface: {model: flat, size: [10, 10]}, optics: {preset: coastal}}\n"
+                   "bathymetry: {type: planar_slope, z0_m: -12, spacing_m: 1, material: bottom}\n"
+                   "materials:\n  - {name: bottom, type: lambertian, reflectance: 0.2}\n" +
+                   blocks[i];
+            ++probeArrays;
         } else {
             continue;
         }
@@ -67,4 +75,5 @@ TEST(DocsExamples, SceneFormatExamplesAreValid) {
     }
     EXPECT_GE(scenes, 1);  // the complete annotated example
     EXPECT_GE(waters, 1);  // the layered water example
+    EXPECT_GE(probeArrays, 1);  // the probe-array example
 }

@@ -275,3 +275,76 @@ TEST(SceneFile, PhaseFunctionsThatCannotBeHonouredAreRefusedWhereTheyAreWritten)
         expectLocation(msg, "refused.yaml", c.line, c.column);
     }
 }
+
+// Probe arrays (issue 18): a `line` (transect or vertical profile) and a `grid` expand into
+// evenly spaced probes, both ends included, named <name>_<i> and <name>_<i>_<j> with indices
+// zero-padded to sort in order. Positions are checked exactly against the arithmetic.
+TEST(SceneFile, ProbeLinesAndGridsExpandIntoNamedProbes) {
+    const std::string probes = "probes:\n"
+                               "  - {name: prof, line: {from: [1, 2, -0.5], to: [1, 2, -10.5], count: 11}, "
+                               "quantities: [Ed, Eu], medium: water}\n"
+                               "  - {name: g, grid: {from: [-2, -1, -3], to: [2, 1, -3], count: [5, 3]}, "
+                               "quantities: [Eod], samples: 64}\n"
+                               "  - {name: one, position: [0, 0, -1], quantities: [Ed]}\n"
+                               "render:\n";
+    const auto spec = loadSceneFile(writeScene("arrays.yaml", replaceOnce(kValid, "render:\n", probes)));
+    ASSERT_EQ(spec.probes.size(), 11u + 15u + 1u);
+    EXPECT_EQ(spec.probes[0].name, "prof_00");
+    EXPECT_EQ(spec.probes[10].name, "prof_10");
+    for (int i = 0; i <= 10; ++i) {
+        EXPECT_DOUBLE_EQ(spec.probes[i].position.z, -0.5 - i) << i;
+        EXPECT_EQ(spec.probes[i].position.x, 1.0);
+        EXPECT_EQ(spec.probes[i].quantities.size(), 2u);
+        EXPECT_EQ(spec.probes[i].medium, "water");
+        EXPECT_EQ(spec.probes[i].entry, 0u);
+    }
+    // Grid: i along x (5 probes, 1 m apart), j along y (3 probes, 1 m apart), at z = -3.
+    EXPECT_EQ(spec.probes[11].name, "g_0_0");
+    EXPECT_EQ(spec.probes[11 + 3 * 4 + 2].name, "g_4_2");
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const auto& p = spec.probes[11 + 3 * i + j];
+            EXPECT_DOUBLE_EQ(p.position.x, -2.0 + i);
+            EXPECT_DOUBLE_EQ(p.position.y, -1.0 + j);
+            EXPECT_EQ(p.position.z, -3.0);
+            EXPECT_EQ(p.samples, 64);
+            EXPECT_EQ(p.entry, 1u);
+        }
+    EXPECT_EQ(spec.probes[26].name, "one");
+    EXPECT_EQ(spec.probes[26].entry, 2u);
+}
+
+// Each malformed array is refused at its key with what is allowed; a name that an array entry
+// repeats is refused at the later entry.
+TEST(SceneFile, MalformedProbeArraysAreRefusedAtTheirKey) {
+    auto withProbe = [](const std::string& entry) {
+        return replaceOnce(kValid, "render:\n", "probes:\n" + entry + "render:\n");
+    };
+    std::string msg = errorOf("two.yaml", withProbe("  - {name: p, position: [0, 0, -1], line: {from: [0, 0, -1], to: "
+                                                    "[0, 0, -2], count: 2}, quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("probes[0]: probe 'p': give exactly one of 'position' (one probe), 'line' or 'grid'"),
+              std::string::npos)
+        << msg;
+    expectLocation(msg, "two.yaml", 26, 5);
+    msg = errorOf("none.yaml", withProbe("  - {name: p, quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("found 0"), std::string::npos) << msg;
+    msg = errorOf("tilted.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -2], count: [2, 2]}, "
+                                           "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("probes[0].grid.to: a grid is horizontal"), std::string::npos) << msg;
+    msg = errorOf("count1.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 1}, "
+                                           "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("probes[0].line.count: 1 is out of range; allowed [2, 100000]"), std::string::npos) << msg;
+    msg = errorOf("huge.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [1000, 1000]}, "
+                                         "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("1000 x 1000 = 1000000 probes; at most 100000 in one array"), std::string::npos) << msg;
+    msg = errorOf("frac.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [2.5, 2]}, "
+                                         "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("expected [nx, ny]: two whole numbers"), std::string::npos) << msg;
+    msg = errorOf("same.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -1], count: 3}, "
+                                         "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("a line needs 'to' apart from 'from'"), std::string::npos) << msg;
+    msg = errorOf("dupname.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 3}, "
+                                            "quantities: [Ed]}\n  - {name: p_1, position: [0, 0, -1], "
+                                            "quantities: [Ed]}\n"));
+    EXPECT_NE(msg.find("probes[1]: probe name 'p_1' is used twice"), std::string::npos) << msg;
+}
