@@ -116,9 +116,7 @@ TEST_F(Cli, RunBuildsRendersAndMatchesRefractedSunIrradiance) {
     double lo, hi, value, se;
     ASSERT_TRUE(rs >> name >> quantity >> lo >> hi >> value >> se) << row;
     EXPECT_EQ(quantity, "Ed");
-    const double n = 1.34, ti = 30 * M_PI / 180, tr = std::asin(std::sin(ti) / n);
-    const double rf = 0.5 * (std::pow(std::sin(ti - tr) / std::sin(ti + tr), 2) + std::pow(std::tan(ti - tr) / std::tan(ti + tr), 2));
-    const double predicted = 1000 * std::cos(ti) * (1 - rf) * std::exp(-0.388 / std::cos(tr));
+    const double predicted = littoral::testing_support::refractedSunEd(1000, 30, 1.34, 0.388, 1.0);
     EXPECT_NEAR(predicted, 557.388, 1e-3);
     EXPECT_NEAR(value, predicted, 4 * se + 1e-9) << "se " << se;
 }

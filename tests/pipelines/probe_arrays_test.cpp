@@ -78,15 +78,12 @@ TEST(ProbeArrays, ProfileAndGridReadBeerLambertAtTheirPositions) {
     std::string line;
     std::getline(csv, line);
     ASSERT_EQ(line, "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches");
-    const double n = 1.34, ti = 30 * M_PI / 180, tr = std::asin(std::sin(ti) / n);
-    const double rf = 0.5 * (std::pow(std::sin(ti - tr) / std::sin(ti + tr), 2) +
-                             std::pow(std::tan(ti - tr) / std::tan(ti + tr), 2));
     std::map<std::string, std::vector<double>> rows;  // name -> x, y, z
     while (std::getline(csv, line)) {
         const auto c = splitCsv(line);
         ASSERT_EQ(c.size(), 13u) << line;
         const double value = std::stod(c[4]), se = std::stod(c[5]), z = std::stod(c[9]);
-        const double predicted = 1000 * std::cos(ti) * (1 - rf) * std::exp(0.388 * z / std::cos(tr));
+        const double predicted = littoral::testing_support::refractedSunEd(1000, 30, 1.34, 0.388, -z);
         EXPECT_NEAR(value, predicted, 4 * se + 1e-9) << line;
         EXPECT_EQ(c[10], "water") << line;
         EXPECT_EQ(c[11], "256") << line;

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -88,6 +90,65 @@ TEST(SinusoidCausticsRender, BrightLinesWhereTheLandingModelPutsThem) {
                 std::printf("[ sinusoid caustics D %g ] line predicted at x = %+.4f m, brightest pixel at %+.3f m (%.1f, "
                             "median %.1f)\n",
                             depth, x, centre(best), profile[best], median);
+                ++checked;
+            }
+        EXPECT_EQ(checked, 2);
+    }
+}
+
+// The same caustics without photon maps (issue 18): a transect of Ed probes 0.01 m above the
+// floor, one scene entry of 251 probes 0.02 m apart, read by the facet-beam sun connection alone
+// (render/facet_beams.h: no photons, no rendering of the floor). Each line the landing model
+// predicts must have the transect's highest Ed within 0.2 m of it at most 0.05 m away (the issue's
+// bound: 2.5 probe spacings; the 0.53 deg sun blurs the fold by +-0.046 m at 10 m, symmetrically),
+// and it must stand out: at least 3 times the transect's median (a fold of the landing map is a
+// singularity of the flat-facet sum, cut off by the sun disc).
+TEST(SinusoidCausticsRender, ProbeTransectPeaksWhereTheLandingModelPutsThemWithoutPhotonMaps) {
+    for (double depth : {6.0, 10.0}) {
+        const fs::path dir = scratchDir("sinusoid_caustics_render", "probes_D" + std::to_string(int(depth)));
+        std::string text = scene(depth);
+        text = text.substr(0, text.find("materials:"));
+        const std::string z = std::to_string(-depth + 0.01);
+        text += "materials:\n  - {name: floor, reflectance: 0.1}\n"
+                "probes:\n  - {name: t, line: {from: [-2.5, 0, " + z + "], to: [2.5, 0, " + z +
+                "], count: 251}, quantities: [Ed]}\n"
+                "render: {probe_samples: 64, probe_batches: 8}\n";
+        const fs::path file = writeTextFile(dir, "scene.yaml", text);
+        const CommandResult r = runLittoral("--quiet run " + file.string() + " --out " + (dir / "out").string());
+        ASSERT_EQ(r.status, 0) << r.output;
+        std::ifstream csv(dir / "out" / "probes.csv");
+        std::string line;
+        std::getline(csv, line);
+        std::vector<double> xs, ed;
+        while (std::getline(csv, line)) {
+            std::vector<std::string> c;
+            std::stringstream ss(line);
+            for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+            ASSERT_EQ(c.size(), 13u) << line;
+            xs.push_back(std::stod(c[7]));
+            ed.push_back(std::stod(c[4]));
+        }
+        ASSERT_EQ(ed.size(), 251u);
+        std::vector<double> sorted = ed;
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        const double median = sorted[sorted.size() / 2];
+        sinusoid::Wave w;
+        w.depth = depth;
+        int checked = 0;
+        for (const auto& fold : w.causticLines())
+            for (int period = -2; period <= 2; ++period) {
+                const double x = fold.landing + 5.0 * period;
+                if (x < -2.3 || x > 2.3) continue;
+                size_t best = ed.size();
+                for (size_t i = 0; i < ed.size(); ++i)
+                    if (std::abs(xs[i] - x) <= 0.2 && (best == ed.size() || ed[i] > ed[best])) best = i;
+                ASSERT_LT(best, ed.size());
+                EXPECT_LE(std::abs(xs[best] - x), 0.05) << "D " << depth << ": fold at x = " << x << ", peak at "
+                                                        << xs[best];
+                EXPECT_GT(ed[best], 3 * median) << "D " << depth << ": fold at x = " << x;
+                std::printf("[ sinusoid caustics, probes, D %g ] fold predicted at x = %+.4f m, Ed peak at %+.3f m "
+                            "(%.1f, median %.1f)\n",
+                            depth, x, xs[best], ed[best], median);
                 ++checked;
             }
         EXPECT_EQ(checked, 2);

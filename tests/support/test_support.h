@@ -2,6 +2,7 @@
 // Helpers shared by the test programs: scratch directories and running the `littoral` binary.
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,17 @@
 #include "core/error.h"
 
 namespace littoral::testing_support {
+
+// Ed at depth `depth` m under a flat surface of index n, from a sun of irradiance E (normal to the
+// beam) at zenith `zenithDeg` alone: E cos(theta_s) (1 - R_F) exp(-c depth / cos(theta_w)), with
+// Snell's theta_w (Eq. 4.1) and the unpolarised Fresnel reflectance R_F (Eq. 4.2); written out
+// here, apart from the renderer's Fresnel code.
+inline double refractedSunEd(double E, double zenithDeg, double n, double c, double depth) {
+    const double ti = zenithDeg * M_PI / 180, tr = std::asin(std::sin(ti) / n);
+    const double rf = 0.5 * (std::pow(std::sin(ti - tr) / std::sin(ti + tr), 2) +
+                             std::pow(std::tan(ti - tr) / std::tan(ti + tr), 2));
+    return E * std::cos(ti) * (1 - rf) * std::exp(-c * depth / std::cos(tr));
+}
 
 // A fresh, empty directory for one test: <build>/test_scratch/<group>/<name>.
 inline std::filesystem::path scratchDir(const std::string& group, const std::string& name) {
