@@ -280,11 +280,10 @@ void EmbreeScene::Impl::addInstance(const ir::SceneIR& ir, size_t ii) {
     instances.push_back(x);
     const TriMesh& m = ir.meshes[mi].data;
     if (m.triangles.empty()) return;
-    for (uint32_t vi = 0; vi < m.positions.size(); ++vi) {
-        checkVertex(m.positions[vi], vi, [&] { return fmt::format("mesh '{}'", in.mesh); });
+    // The mesh's own vertices were checked by addMesh (every mesh is added before any instance).
+    for (uint32_t vi = 0; vi < m.positions.size(); ++vi)
         checkVertex(worldVertex(static_cast<int>(ii), m, vi), vi,
                     [&] { return fmt::format("instances[{}] (mesh '{}', placed)", ii, in.mesh); });
-    }
     if (!meshScenes[mi]) {
         RTCScene sub = rtcNewScene(device);
         rtcSetSceneFlags(sub, RTC_SCENE_FLAG_ROBUST);

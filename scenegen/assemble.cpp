@@ -101,7 +101,7 @@ std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const 
 // The smooth air-water interface; water.surface.roughness makes it the rough (Cox-Munk) one.
 ir::Material interfaceMaterial() {
     ir::Material m;
-    m.name = "air-water-interface";
+    m.name = kInterfaceMaterialName;
     m.type = ir::Material::Type::Dielectric;  // smooth Fresnel interface between the water mesh's media
     // No explicit solver: the dirsig estimator gives interfaces the Fresnel solver (Table 10.4).
     return m;

@@ -203,7 +203,7 @@ struct WaterVolumes {
             meshes.push_back(&m.data);
             for (size_t f = 0; f < m.data.triangles.size(); ++f) {
                 const size_t slot = m.data.materialOf(f);
-                if (slot >= m.materials.size() || m.materials[slot] != "air-water-interface") continue;
+                if (slot >= m.materials.size() || m.materials[slot] != kInterfaceMaterialName) continue;
                 for (uint32_t v : m.data.triangles[f]) {
                     zLo = std::min(zLo, m.data.positions[v].z);
                     zHi = std::max(zHi, m.data.positions[v].z);

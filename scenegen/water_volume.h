@@ -33,6 +33,9 @@
 
 namespace littoral::scenegen {
 
+// The material of the water mesh's air-water faces (the IR names it; assemble.cpp defines it).
+inline constexpr const char* kInterfaceMaterialName = "air-water-interface";
+
 // A closed solid placed in world coordinates; faceMaterial slots index `materials`.
 struct PlacedSolid {
     std::string name;
@@ -52,7 +55,7 @@ struct WaterVolumeInput {
     std::vector<std::string> terrainMaterials{"seabed"};
     std::function<uint16_t(double, double)> terrainMaterialAt;  // empty: slot 0 everywhere
     std::vector<PlacedSolid> solids;           // subtracted from the water
-    std::string interfaceMaterial = "air-water-interface";
+    std::string interfaceMaterial = kInterfaceMaterialName;
     std::string wallMaterial = "domain-wall";
 };
 

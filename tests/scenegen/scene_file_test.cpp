@@ -326,25 +326,29 @@ TEST(SceneFile, MalformedProbeArraysAreRefusedAtTheirKey) {
               std::string::npos)
         << msg;
     expectLocation(msg, "two.yaml", 26, 5);
-    msg = errorOf("none.yaml", withProbe("  - {name: p, quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("found 0"), std::string::npos) << msg;
-    msg = errorOf("tilted.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -2], count: [2, 2]}, "
-                                           "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("probes[0].grid.to: a grid is horizontal"), std::string::npos) << msg;
-    msg = errorOf("count1.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 1}, "
-                                           "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("probes[0].line.count: 1 is out of range; allowed [2, 100000]"), std::string::npos) << msg;
-    msg = errorOf("huge.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [1000, 1000]}, "
-                                         "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("1000 x 1000 = 1000000 probes; at most 100000 in one array"), std::string::npos) << msg;
-    msg = errorOf("frac.yaml", withProbe("  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [2.5, 2]}, "
-                                         "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("expected [nx, ny]: two whole numbers"), std::string::npos) << msg;
-    msg = errorOf("same.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -1], count: 3}, "
-                                         "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("a line needs 'to' apart from 'from'"), std::string::npos) << msg;
-    msg = errorOf("dupname.yaml", withProbe("  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 3}, "
-                                            "quantities: [Ed]}\n  - {name: p_1, position: [0, 0, -1], "
-                                            "quantities: [Ed]}\n"));
-    EXPECT_NE(msg.find("probes[1]: probe name 'p_1' is used twice"), std::string::npos) << msg;
+    struct Case {
+        const char *file, *entry, *message;
+    };
+    const Case cases[] = {
+        {"none.yaml", "  - {name: p, quantities: [Ed]}\n", "found 0"},
+        {"tilted.yaml", "  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -2], count: [2, 2]}, quantities: [Ed]}\n",
+         "probes[0].grid.to: a grid is horizontal"},
+        {"count1.yaml", "  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 1}, quantities: [Ed]}\n",
+         "probes[0].line.count: 1 is out of range; allowed [2, 100000]"},
+        {"huge.yaml",
+         "  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [1000, 1000]}, quantities: [Ed]}\n",
+         "1000 x 1000 = 1000000 probes; at most 100000 in one array"},
+        {"frac.yaml", "  - {name: p, grid: {from: [0, 0, -1], to: [1, 1, -1], count: [2.5, 2]}, quantities: [Ed]}\n",
+         "expected [nx, ny]: two whole numbers"},
+        {"same.yaml", "  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -1], count: 3}, quantities: [Ed]}\n",
+         "a line needs 'to' apart from 'from'"},
+        {"dupname.yaml",
+         "  - {name: p, line: {from: [0, 0, -1], to: [0, 0, -2], count: 3}, quantities: [Ed]}\n"
+         "  - {name: p_1, position: [0, 0, -1], quantities: [Ed]}\n",
+         "probes[1]: probe name 'p_1' is used twice"},
+    };
+    for (const Case& c : cases) {
+        msg = errorOf(c.file, withProbe(c.entry));
+        EXPECT_NE(msg.find(c.message), std::string::npos) << c.file << ": " << msg;
+    }
 }
