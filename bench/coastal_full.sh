@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 9's coastal benchmark: the synthetic coastal site (data_synthetic/coastal_site/, the
-# dissertation's Chapter 10 scene, nadir simulation C, 450 x 300 px) rendered at configuration
-# C's full photon counts: 50 M surface + 70 M volume photons, search radius 0.4 m. Prints the wall
+# dissertation's Chapter 10 scene, nadir simulation C, 450 x 300 px; three bands over 0.4-0.7 um and
+# constituent water with pure water, where the dissertation had two bands and Table 10.3 water)
+# rendered at configuration C's full photon counts: 50 M surface + 70 M volume photons, search radius 0.4 m. Prints the wall
 # time, CPU time and peak memory of `littoral run` (GNU time), and the photon pass's share.
 # Usage: bench/coastal_full.sh [OUT_DIR]   (default out/bench-coastal-full; needs build/bin/littoral)
 set -euo pipefail

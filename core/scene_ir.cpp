@@ -32,6 +32,12 @@ const Material* SceneIR::findMaterial(const std::string& n) const {
         if (m.name == n) return &m;
     return nullptr;
 }
+const Sensor* SceneIR::findSensor(const std::string& n) const {
+    for (const Sensor& x : sensors)
+        if (x.name == n) return &x;
+    return nullptr;
+}
+
 const Medium* SceneIR::findMedium(const std::string& n) const {
     for (const auto& m : media)
         if (m.name == n) return &m;
@@ -151,6 +157,18 @@ Json sensorJson(const Sensor& c) {
     for (size_t i = 0; i < kind.info.params.size(); ++i) cj[kind.info.params[i].name] = c.*kind.fields[i].field;
     cj["samples_per_pixel"] = c.samplesPerPixel;
     cj["medium"] = c.medium;
+    if (c.psf) {
+        Json pj = {{"type", c.psf->type}};
+        if (c.psf->type == "gaussian") pj["fwhm_px"] = c.psf->fwhmPx;
+        else pj["width"] = c.psf->width, pj["height"] = c.psf->height, pj["values"] = c.psf->values;
+        cj["psf"] = pj;
+    }
+    if (c.detector) {
+        const SensorDetector& d = *c.detector;
+        cj["detector"] = {{"aperture_diameter_m", d.apertureDiameter}, {"integration_time_s", d.integrationTime},
+                          {"quantum_efficiency", d.quantumEfficiency}, {"read_noise_e", d.readNoise},
+                          {"full_well_e", d.fullWell}, {"bits", d.bits}, {"seed", d.seed}};
+    }
     return cj;
 }
 
@@ -169,6 +187,15 @@ std::string toJsonText(const SceneIR& s) {
     Json bands = Json::array();
     for (const auto& b : r.bands) bands.push_back(Json::array({b.lo, b.hi}));
     Json rj = {{"bands_um", bands}, {"seed", r.seed}, {"threads", r.threads}, {"estimator", nm(r.estimator)}};
+    if (!r.responseBands.empty()) {
+        Json rb = Json::array();
+        for (const ResponseBand& o : r.responseBands) {
+            Json w = Json::array();
+            for (const auto& [i, x] : o.weights) w.push_back(Json::array({i, x}));
+            rb.push_back({{"kind", o.kind}, {"nominal_um", Json::array({o.nominal.lo, o.nominal.hi})}, {"weights", w}});
+        }
+        rj["response_bands"] = rb;
+    }
     // Optional settings: written only when set (unset = the estimator's default), in the order set.
     for (const auto& [key, value] : r.settings) rj[key] = paramJson(value);
     j["render"] = rj;
@@ -375,6 +402,35 @@ PhaseFunction readPhase(const JReader& ph) {
 
 namespace {
 
+// Output bands as weighted means of the render bands: every weight names a band, is >= 0, and
+// each band's weights sum to 1 (within rounding), so that no hand edit can scale a radiance.
+void readResponseBands(const JReader& list, RenderSettings* r) {
+    if (list.size() == 0) list.fail("list at least one band, or leave the key out");
+    for (size_t k = 0; k < list.size(); ++k) {
+        const JReader o = list.at(k);
+        o.expectKeys({"kind", "nominal_um", "weights"});
+        ResponseBand b;
+        b.kind = o["kind"].str();
+        if (b.kind != "rectangle" && b.kind != "gaussian" && b.kind != "table")
+            o["kind"].fail("expected 'rectangle', 'gaussian' or 'table'");
+        const auto n = o["nominal_um"].nums();
+        if (n.size() != 2 || !(n[1] > n[0]) || n[0] <= 0) o["nominal_um"].fail("expected [lo, hi] with 0 < lo < hi");
+        b.nominal = {n[0], n[1]};
+        double sum = 0;
+        const JReader w = o["weights"];
+        for (size_t i = 0; i < w.size(); ++i) {
+            const auto pair = w.at(i).nums();
+            if (pair.size() != 2 || pair[0] < 0 || pair[0] >= static_cast<double>(r->bands.size()) ||
+                pair[0] != std::floor(pair[0]) || !(pair[1] >= 0) || !std::isfinite(pair[1]))
+                w.at(i).fail(fmt::format("expected [band index in [0, {}), weight >= 0]", r->bands.size()));
+            b.weights.push_back({static_cast<int>(pair[0]), pair[1]});
+            sum += pair[1];
+        }
+        if (!(std::abs(sum - 1.0) <= 1e-6)) w.fail(fmt::format("the weights sum to {}, not 1", sum));
+        r->responseBands.push_back(std::move(b));
+    }
+}
+
 // The render section: bands, seed, threads, estimator, and the optional settings kept generically
 // (their keys, types and ranges belong to the estimators, which check them:
 // render::makeRenderConfig); each keeps its JSON type and order.
@@ -392,9 +448,10 @@ void readRender(const JReader& rr, RenderSettings* out) {
     r.seed = rr["seed"].uinteger();
     r.threads = static_cast<int>(rr["threads"].integer());
     r.estimator = rr["estimator"].choice<Estimator>();
+    if (rr.has("response_bands")) readResponseBands(rr["response_bands"], &r);
     for (auto it = rr.json().begin(); it != rr.json().end(); ++it) {
         const std::string& k = it.key();
-        if (k == "bands_um" || k == "seed" || k == "threads" || k == "estimator") continue;
+        if (k == "bands_um" || k == "seed" || k == "threads" || k == "estimator" || k == "response_bands") continue;
         r.settings.set(k, rr[k].anyParam());
     }
 }
@@ -577,13 +634,65 @@ Instance readInstance(const JReader& in, const SceneIR& s) {
     return x;
 }
 
+// A sensor's PSF: its numbers checked as the scene reader checks them (a hand-edited IR may not
+// hold what no scene file could).
+SensorPsf readSensorPsf(const JReader& p) {
+    SensorPsf psf;
+    psf.type = p["type"].str();
+    if (psf.type == "gaussian") {
+        p.expectKeys({"type", "fwhm_px"});
+        psf.fwhmPx = p["fwhm_px"].num();
+        if (!(psf.fwhmPx >= 0.1 && psf.fwhmPx <= 50)) p["fwhm_px"].fail("expected a FWHM in [0.1, 50] px");
+        return psf;
+    }
+    if (psf.type != "kernel") p["type"].fail("expected 'gaussian' or 'kernel'");
+    p.expectKeys({"type", "width", "height", "values"});
+    const int64_t w = p["width"].integer(), h = p["height"].integer();
+    if (w < 1 || w > kMaxPsfSide || w % 2 == 0 || h < 1 || h > kMaxPsfSide || h % 2 == 0)
+        p.fail(fmt::format("a PSF kernel's width and height must be odd, 1 to {}", kMaxPsfSide));
+    psf.width = static_cast<int>(w);
+    psf.height = static_cast<int>(h);
+    double sum = 0;
+    for (size_t i = 0; i < p["values"].size(); ++i) {
+        const double v = p["values"].at(i).num();
+        if (!(v >= 0) || !std::isfinite(v)) p["values"].at(i).fail("a PSF value must be finite and >= 0");
+        psf.values.push_back(v);
+        sum += v;
+    }
+    if (psf.values.size() != static_cast<size_t>(w * h))
+        p["values"].fail(fmt::format("expected {} x {} = {} values, found {}", w, h, w * h, psf.values.size()));
+    if (!(sum > 0)) p["values"].fail("a PSF kernel must not be all zero");
+    return psf;
+}
+
+SensorDetector readSensorDetector(const JReader& d) {
+    d.expectKeys({"aperture_diameter_m", "integration_time_s", "quantum_efficiency", "read_noise_e", "full_well_e", "bits",
+                  "seed"});
+    SensorDetector det;
+    auto in = [&](const char* k, double lo, double hi) {
+        const double v = d[k].num();
+        if (!(v >= lo && v <= hi)) d[k].fail(fmt::format("{} is out of range; allowed [{}, {}]", v, lo, hi));
+        return v;
+    };
+    det.apertureDiameter = in("aperture_diameter_m", 1e-5, 10);
+    det.integrationTime = in("integration_time_s", 1e-9, 1e2);
+    det.quantumEfficiency = in("quantum_efficiency", 1e-6, 1);
+    det.readNoise = in("read_noise_e", 0, 1e6);
+    det.fullWell = in("full_well_e", 1, 1e9);
+    det.bits = static_cast<int>(in("bits", 1, 24));
+    const int64_t seed = d["seed"].integer();
+    if (seed < 0) d["seed"].fail("expected a seed >= 0");
+    det.seed = static_cast<uint64_t>(seed);
+    return det;
+}
+
 // One sensor; sizes are range-checked before narrowing.
 Sensor readSensor(const JReader& c, const SceneIR& s) {
     // Any sensor type's parameters are known keys; those of this sensor's type are read, the others
     // refused.
     std::vector<std::string> keys = {"name", "type", "position_m", "forward", "up", "width", "height"};
     for (const std::string& k : sensorTypeKinds().allParamNames()) keys.push_back(k);
-    keys.insert(keys.end(), {"samples_per_pixel", "medium"});
+    keys.insert(keys.end(), {"samples_per_pixel", "medium", "psf", "detector"});
     c.expectKeys(keys);
     Sensor se;
     se.name = c["name"].str();
@@ -608,6 +717,8 @@ Sensor readSensor(const JReader& c, const SceneIR& s) {
     se.samplesPerPixel = static_cast<int>(c["samples_per_pixel"].integer());
     se.medium = c["medium"].str();
     if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");
+    if (c.has("psf")) se.psf = readSensorPsf(c["psf"]);
+    if (c.has("detector")) se.detector = readSensorDetector(c["detector"]);
     return se;
 }
 

@@ -59,9 +59,11 @@ struct Layer {
 // A medium: refractive index and a stack of layers. "air" with n = 1 and no absorption or
 // scattering is implicit when a mesh side names no medium.
 struct Medium {
-    // The dirsig estimator's solver for the medium's in-scattered radiance (Table 10.4). Unset: none
-    // (scattering attenuates, Beer–Lambert with c = a + b); MediumPM: the volume photon map.
-    enum class Solver { MediumPM };
+    // The dirsig estimator's solver for the medium's in-scattered radiance (Table 10.4). MediumPM:
+    // the volume photon map; Attenuation: none, scattering counts as loss (Beer–Lambert with
+    // c = a + b), chosen explicitly. Unset: the same as Attenuation, with a warning at run time
+    // when the medium scatters (a scene file's scattering water defaults to MediumPM instead).
+    enum class Solver { MediumPM, Attenuation };
     std::string name;
     Spectrum refractiveIndex = Spectrum::constant(1.0);
     std::vector<Layer> layers{Layer{}};
@@ -158,6 +160,27 @@ struct Sky {
 // A camera. Pinhole: position, look direction, up hint; image width x height; focal length and
 // pixel pitch (metres) set the field of view. Orthographic: `pixelSize` metres per pixel on the
 // image plane. `medium` names the medium the camera sits in ("" = air).
+// A sensor's point-spread function on the radiance (render/sensor_model.h): "gaussian" (fwhmPx)
+// or "kernel" (width x height values, odd sizes, non-negative, normalised when applied).
+inline constexpr int kMaxPsfSide = 101;  // px: a kernel's widest side
+struct SensorPsf {
+    std::string type;
+    double fwhmPx = 0;
+    int width = 0, height = 0;
+    std::vector<double> values;
+};
+
+// A sensor's detector (render/sensor_model.h): SI units.
+struct SensorDetector {
+    double apertureDiameter = 0;   // m
+    double integrationTime = 0;    // s
+    double quantumEfficiency = 0;  // (0, 1]
+    double readNoise = 0;          // electrons rms
+    double fullWell = 0;           // electrons
+    int bits = 12;
+    uint64_t seed = 1;
+};
+
 struct Sensor {
     enum class Type { Pinhole, Orthographic };
     std::string name;
@@ -171,6 +194,8 @@ struct Sensor {
     double pixelSize = 0.0;    // m (orthographic)
     int samplesPerPixel = 1;
     std::string medium;
+    std::optional<SensorPsf> psf;
+    std::optional<SensorDetector> detector;
 };
 
 // A point radiometer. Quantities: "Ed", "Eu" (plane irradiances, down/up-welling),
@@ -195,8 +220,18 @@ enum class Estimator { Dirsig, Path };
 // their types, defaults and ranges (render/*_estimator.cpp, registered in core/kinds.h's
 // estimatorKinds()); render::makeRenderConfig checks the values against them, and a setting that
 // is set but that no part of the chosen estimator reads is an error naming it.
+// An output band with a spectral response (core/spectral_response.h): the weighted mean of some
+// of render.bands, which are then the internal sub-bands the renderer renders. `nominal` is the
+// band written into the outputs' metadata (a Gaussian's centre +- FWHM / 2).
+struct ResponseBand {
+    std::string kind;  // rectangle | gaussian | table
+    Band nominal;
+    std::vector<std::pair<int, double>> weights;  // (index into bands, weight); weights sum to 1
+};
+
 struct RenderSettings {
     std::vector<Band> bands{Band{0.4, 0.6}};
+    std::vector<ResponseBand> responseBands;  // empty: the bands above are the output bands
     uint64_t seed = 1;
     int threads = 0;  // 0 = all cores
     Estimator estimator = Estimator::Dirsig;
@@ -231,6 +266,7 @@ struct SceneIR {
 
     const Material* findMaterial(const std::string& n) const;
     const Medium* findMedium(const std::string& n) const;
+    const Sensor* findSensor(const std::string& n) const;  // nullptr if none
     const Mesh* findMesh(const std::string& n) const;
 };
 
@@ -272,7 +308,8 @@ template <> struct EnumNames<ir::Material::Solver> {
 };
 template <> struct EnumNames<ir::Medium::Solver> {
     static constexpr std::string_view what = "medium solver";
-    static constexpr EnumName<ir::Medium::Solver> table[] = {{ir::Medium::Solver::MediumPM, "medium-pm"}};
+    static constexpr EnumName<ir::Medium::Solver> table[] = {{ir::Medium::Solver::MediumPM, "medium-pm"},
+                                                               {ir::Medium::Solver::Attenuation, "attenuation"}};
 };
 template <> struct EnumNames<ir::Sensor::Type> {
     static constexpr std::string_view what = "sensor type";

@@ -133,6 +133,10 @@ ColumnScene columnScene(const scenegen::SceneSpec& spec, const ColumnOptions& o)
     ir::SceneIR ir;
     scenegen::applyCommonSections(spec, &ir);
     cs.depths = columnDepths(spec, o, bottom, &cs.notes);
+    if (!ir.render.responseBands.empty())
+        throw InputError(SourceLoc{spec.file.string()},
+                         "render.bands: the column solver reads rectangular bands [lo, hi] only; a band with a spectral "
+                         "response (centre_um and fwhm_um, or response) is for run and render");
     for (size_t b = 0; b < ir.render.bands.size(); ++b) {
         try {
             cs.bands.push_back(column::columnBandFromIr(ir, spec.waterLevel, bottom, static_cast<int>(b)));

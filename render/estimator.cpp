@@ -180,6 +180,15 @@ void checkRadiusFitsDomain(const ir::SceneIR& ir, SettingsReader& r, const char*
                             r.isSet(key) ? "" : "the default ", radius, side, d.x0, d.x1, d.y0, d.y1));
 }
 
+// Whether some layer of `m` scatters in some band.
+bool scatters(const ir::Medium& m, const std::vector<Band>& bands) {
+    for (const ir::Layer& l : m.layers)
+        for (const ir::Scatterer& sc : l.scatterers)
+            for (double b : sc.scattering.bandAverages(bands, "scattering of medium '" + m.name + "'"))
+                if (b > 0) return true;
+    return false;
+}
+
 // The photon maps: read only when some material or medium uses a photon-map solver. Returns the
 // hint for settings set but not read.
 std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
@@ -189,6 +198,11 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
     for (size_t i = 0; i < ir.media.size(); ++i) {
         c->mediumPM.push_back(ir.media[i].solver == ir::Medium::Solver::MediumPM);
         if (c->mediumPM.back() && mediumPM < 0) mediumPM = static_cast<int>(i);
+        if (!ir.media[i].solver && scatters(ir.media[i], ir.render.bands))
+            log::warn("medium '{}' scatters but names no solver: the dirsig estimator counts its scattering as loss "
+                      "(Beer-Lambert with c = a + b) and renders none of its in-scattered light; give it solver "
+                      "medium-pm (the volume photon map), or solver attenuation to keep the loss deliberately",
+                      ir.media[i].name);
     }
     if (surfacePM >= 0) {
         if (!r.isSet("surface_photons"))
@@ -199,9 +213,6 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
         checkRadiusFitsDomain(ir, r, "surface_search_radius_m", c->surfaceRadius);
     }
     if (mediumPM >= 0) {
-        if (!r.isSet("volume_photons"))
-            mediumError(ir.media[mediumPM], static_cast<size_t>(mediumPM),
-                        "the medium-pm solver needs the volume photon map: set render.photons.volume");
         c->volumePhotons = r.get<uint64_t>("volume_photons");
         c->volumeRadius = r.get<double>("volume_search_radius_m");
         checkRadiusFitsDomain(ir, r, "volume_search_radius_m", c->volumeRadius);

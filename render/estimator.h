@@ -36,6 +36,10 @@ namespace littoral::render {
 inline constexpr const char* kPathsTraced = "path estimator: paths traced";
 inline constexpr const char* kPathsCut = "path estimator: paths cut at render.max_bounces";
 
+// render.photons.volume when unset: the volume map of a medium-pm water (which a scene file's
+// scattering water is by default under dirsig). 20 B + 2 B per band each: 24 MB at 2 bands.
+inline constexpr double kDefaultVolumePhotons = 1e6;
+
 // The render settings, resolved (defaults applied, ranges checked) for the chosen estimator.
 struct RenderConfig {
     ir::Estimator estimator = ir::Estimator::Dirsig;

@@ -127,6 +127,7 @@ TruthImages::TruthImages(int w, int h) : width(w), height(h) {
                          " px is invalid (width and height must be positive)");
     const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     materialId.assign(n, -1);
+    surfaceId.assign(n, -1);
     range.assign(n, std::numeric_limits<float>::infinity());
     hitDepth.assign(n, std::numeric_limits<float>::quiet_NaN());
 }

@@ -62,12 +62,14 @@ double bandQuantile(const Film& film, int b, double q);
 // Per-pixel truth of the first hit along the centre ray of each pixel.
 struct TruthImages {
     int width = 0, height = 0;
-    std::vector<int32_t> materialId;  // index into ir materials, -1 = nothing hit / sky
+    std::vector<int32_t> materialId;  // index into ir materials of the first hit, -1 = nothing hit / sky
+    std::vector<int32_t> surfaceId;   // material of the first opaque surface reached through the
+                                      // interfaces (the seabed's class under water), -1 if none
     std::vector<float> range;         // metres along the ray to the first hit, +inf if none
     std::vector<float> hitDepth;      // metres below z = 0 of the first opaque surface reached
                                       // (through refraction), 0 if above water, NaN if none
     TruthImages() = default;
-    // Initialised to "nothing hit": materialId -1, range +inf, hitDepth NaN.
+    // Initialised to "nothing hit": materialId and surfaceId -1, range +inf, hitDepth NaN.
     TruthImages(int w, int h);
 
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x); }

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/colour.h"
 #include "core/error.h"
 #include "core/resource_limits.h"
 
@@ -527,6 +528,55 @@ void writePngPreview(const fs::path& path, const Film& film, const PreviewOption
     writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
+std::vector<std::array<float, 3>> linearSrgbPixels(const Film& film) {
+    const std::vector<Xyz> w = xyzBandWeights(film.bands);
+    const std::size_t nb = film.bands.size();
+    std::vector<std::array<float, 3>> rgb(film.pixelCount());
+    for (std::size_t p = 0; p < rgb.size(); ++p) {
+        Xyz c;
+        for (std::size_t b = 0; b < nb; ++b) {
+            const double v = film.pixels[p * nb + b];
+            if (!std::isfinite(v)) continue;
+            c.x += w[b].x * v, c.y += w[b].y * v, c.z += w[b].z * v;
+        }
+        const std::array<double, 3> l = xyzToLinearSrgb(c);
+        rgb[p] = {static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2])};
+    }
+    return rgb;
+}
+
+void writeTrueColourPng(const fs::path& path, const Film& film, const PreviewOptions& o) {
+    checkFilm(film, path);
+    if (!spansVisible(film.bands))
+        throw InputError(SourceLoc{path.string()},
+                         fmt::format("a true-colour preview needs at least 3 bands whose range holds {:.0f} % of each "
+                                     "CIE colour-matching function (these {} band(s) hold {:.1f} %)",
+                                     100 * kVisibleCoverage, film.bands.size(), 100 * visibleCoverage(film.bands)));
+    const std::vector<std::array<float, 3>> rgb = linearSrgbPixels(film);
+    Film peak(film.width, film.height, {Band{}});  // max(R, G, B): the exposure keeps hues unclipped
+    for (std::size_t p = 0; p < rgb.size(); ++p) peak.pixels[p] = std::max({rgb[p][0], rgb[p][1], rgb[p][2]});
+    double white = o.whiteLevel;
+    if (white == 0.0) white = bandQuantile(peak, 0, o.percentile);
+    if (!(white > 0.0)) white = 1.0;
+    const std::size_t np = film.pixelCount();
+    std::vector<uint8_t> bytes(np * 3);
+    for (int c = 0; c < 3; ++c) {
+        std::vector<float> disp(np);
+        for (std::size_t p = 0; p < np; ++p) disp[p] = static_cast<float>(srgbEncode(rgb[p][c] / white));
+        if (o.blurSigma > 0.0) disp = gaussianBlur(disp, film.width, film.height, o.blurSigma);
+        for (std::size_t p = 0; p < np; ++p)
+            bytes[p * 3 + c] = static_cast<uint8_t>(std::lround(255.0 * std::clamp(static_cast<double>(disp[p]), 0.0, 1.0)));
+    }
+    OIIO::ImageSpec spec(film.width, film.height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("Software", "Littoral");
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    spec.attribute("ImageDescription",
+                   fmt::format("Littoral true-colour preview: CIE 1931 XYZ of the band radiances, sRGB (D65, no "
+                               "chromatic adaptation); linear white = {} {} (as Y of a flat spectrum), blur sigma = {} px",
+                               white, kRadianceUnits, o.blurSigma));
+    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
 // ---- Truth images -----------------------------------------------------------------------------
 
 namespace {
@@ -541,19 +591,24 @@ void checkTruth(const TruthImages& t, const fs::path& path) {
 void writeTruthExr(const fs::path& path, const TruthImages& t, const std::vector<std::string>& materialNames) {
     checkTruth(t, path);
     const std::size_t n = t.materialId.size();
-    std::vector<float> data(n * 3);
+    std::vector<float> data(n * 4);
     for (std::size_t p = 0; p < n; ++p) {
-        LITTORAL_CHECK(std::abs(t.materialId[p]) < (1 << 24));  // float holds such integers exactly
-        data[3 * p + 0] = static_cast<float>(t.materialId[p]);
-        data[3 * p + 1] = t.range[p];
-        data[3 * p + 2] = t.hitDepth[p];
+        // float holds such integers exactly
+        LITTORAL_CHECK(std::abs(t.materialId[p]) < (1 << 24) && std::abs(t.surfaceId[p]) < (1 << 24));
+        data[4 * p + 0] = static_cast<float>(t.materialId[p]);
+        data[4 * p + 1] = static_cast<float>(t.surfaceId[p]);
+        data[4 * p + 2] = t.range[p];
+        data[4 * p + 3] = t.hitDepth[p];
     }
-    OIIO::ImageSpec spec(t.width, t.height, 3, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"materialId", "range", "hitDepth"};
+    OIIO::ImageSpec spec(t.width, t.height, 4, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"materialId", "surfaceId", "range", "hitDepth"};
     spec.alpha_channel = -1;
     spec.attribute("compression", "zip");
-    spec.attribute("littoral:quantity", "first-hit truth along each pixel's centre ray");
-    spec.attribute("littoral:units", "materialId: index (-1 = none); range: m (+inf = none); hitDepth: m below z = 0 (NaN = none)");
+    spec.attribute("littoral:quantity", "first-hit truth along each pixel's centre ray, and the first opaque surface "
+                                        "through the interfaces");
+    spec.attribute("littoral:units", "materialId: index of the first hit (-1 = none); surfaceId: index of the first "
+                                     "opaque surface through refraction (-1 = none); range: m (+inf = none); hitDepth: m "
+                                     "below z = 0 of that surface (NaN = none)");
     if (!materialNames.empty()) {
         // Comma separated; a comma or percent sign inside a name is percent-encoded (%2C, %25).
         std::vector<std::string> escaped;
@@ -579,8 +634,11 @@ TruthImages readTruthExr(const fs::path& path) {
         idx[c] = static_cast<int>(it - img.spec.channelnames.begin());
     }
     const int nc = img.spec.nchannels;
+    auto sid = std::find(img.spec.channelnames.begin(), img.spec.channelnames.end(), "surfaceId");
+    const int surface = sid == img.spec.channelnames.end() ? -1 : static_cast<int>(sid - img.spec.channelnames.begin());
     for (std::size_t p = 0; p < t.materialId.size(); ++p) {
         t.materialId[p] = static_cast<int32_t>(img.data[p * nc + idx[0]]);
+        if (surface >= 0) t.surfaceId[p] = static_cast<int32_t>(img.data[p * nc + surface]);
         t.range[p] = img.data[p * nc + idx[1]];
         t.hitDepth[p] = img.data[p * nc + idx[2]];
     }
@@ -641,12 +699,38 @@ void materialIdColour(int32_t id, uint8_t rgb[3]) {
 
 void writeMaterialIdPng(const fs::path& path, const TruthImages& t) {
     checkTruth(t, path);
-    std::vector<uint8_t> bytes(t.materialId.size() * 3);
-    for (std::size_t p = 0; p < t.materialId.size(); ++p) materialIdColour(t.materialId[p], &bytes[3 * p]);
+    std::vector<uint8_t> bytes(t.surfaceId.size() * 3);
+    for (std::size_t p = 0; p < t.surfaceId.size(); ++p) materialIdColour(t.surfaceId[p], &bytes[3 * p]);
     OIIO::ImageSpec spec(t.width, t.height, 3, OIIO::TypeDesc::UINT8);
     spec.attribute("Software", "Littoral");
-    spec.attribute("ImageDescription", "Littoral material ids, false colour (black = nothing hit)");
+    spec.attribute("ImageDescription", "Littoral material of the first opaque surface seen through the water, false "
+                                       "colour (black = nothing); the legend is NAME_legend.csv");
     writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+std::string truthLegendCsv(const TruthImages& t, const std::vector<std::string>& names,
+                           const std::vector<std::string>& types) {
+    LITTORAL_CHECK_EQ(names.size(), types.size());
+    std::vector<int64_t> first(names.size() + 1, 0), surface(names.size() + 1, 0);  // [0] = id -1
+    for (std::size_t p = 0; p < t.materialId.size(); ++p) {
+        ++first[static_cast<std::size_t>(t.materialId[p] + 1)];
+        ++surface[static_cast<std::size_t>(t.surfaceId[p] + 1)];
+    }
+    const double np = static_cast<double>(t.materialId.size());
+    std::string csv = "id,material,type,red,green,blue,first_hit_fraction,surface_fraction\n";
+    for (int id = -1; id < static_cast<int>(names.size()); ++id) {
+        uint8_t rgb[3];
+        materialIdColour(id, rgb);
+        const std::string name = id < 0 ? "(nothing)" : names[static_cast<std::size_t>(id)];
+        const std::string type = id < 0 ? "" : types[static_cast<std::size_t>(id)];
+        const bool quote = name.find_first_of(",\"") != std::string::npos;
+        std::string q;
+        for (char ch : name) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+        csv += fmt::format("{},{},{},{},{},{},{:.6f},{:.6f}\n", id, quote ? "\"" + q + "\"" : name, type, rgb[0], rgb[1],
+                           rgb[2], static_cast<double>(first[static_cast<std::size_t>(id + 1)]) / np,
+                           static_cast<double>(surface[static_cast<std::size_t>(id + 1)]) / np);
+    }
+    return csv;
 }
 
 }  // namespace littoral::render

@@ -17,12 +17,14 @@
 //   PNG   8-bit preview: bands mapped to R, G, B (or one band as grey), exposure, a power-law
 //         gamma (default 0.65, the dissertation's post-processing, seed-ch05-10.md §1.10; no
 //         sRGB curve on top) and an optional Gaussian sensor blur.
-//   Truth EXR with float channels materialId, range (m), hitDepth (m); a TIFF of material ids as
-//         int32; a false-colour PNG of material ids.
+//   Truth EXR with float channels materialId (first hit), surfaceId (first opaque surface through
+//         the interfaces), range (m), hitDepth (m); a TIFF of material ids as int32; a
+//         false-colour PNG of surface ids and its CSV legend.
 //
 // Every writer goes through AtomicOutput: the data is written to a temporary beside the target
 // and renamed only when complete, so a failed run never leaves a partial file. An unwritable
 // destination is an InputError naming the path.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -111,6 +113,18 @@ inline constexpr double kDissertationBlurSigma = 0.636343;
 // percentile outside (0, 1], negative sigma) or an unwritable path.
 void writePngPreview(const std::filesystem::path& path, const Film& film, const PreviewOptions& options = {});
 
+// The true-colour preview of a film whose bands span the visible (spansVisible, core/colour.h):
+// each pixel's spectrum (reconstructed from its band radiances) through the CIE 1931
+// colour-matching functions to XYZ, to linear sRGB (D65 white, no chromatic adaptation: a white
+// surface under an equal-energy sun is shown at x = y = 1/3), exposure, the sRGB transfer curve,
+// the optional blur, 8 bits. Exposure: linear / white, white = options.whiteLevel if > 0 (in the
+// units of Y, which for a flat spectrum is its radiance) else the `percentile` quantile of the
+// pixels' max(R, G, B). `gamma` and the band mapping are not used. InputError if the bands do not
+// span the visible.
+void writeTrueColourPng(const std::filesystem::path& path, const Film& film, const PreviewOptions& options = {});
+// The linear sRGB of every pixel, as writeTrueColourPng computes it (before exposure).
+std::vector<std::array<float, 3>> linearSrgbPixels(const Film& film);
+
 // The display mapping used by writePngPreview for one value: round(255 clamp(v / white, 0, 1)^gamma).
 uint8_t displayValue(double value, double white, double gamma);
 
@@ -142,7 +156,13 @@ std::vector<int32_t> readMaterialIdTiff(const std::filesystem::path& path, int* 
 
 // A fixed, well-separated colour per material id (golden-ratio hue walk); id -1 is black.
 void materialIdColour(int32_t id, uint8_t rgb[3]);
-// False-colour 8-bit RGB PNG of material ids using materialIdColour.
+// False-colour 8-bit RGB PNG of the first opaque surface's material (surfaceId: through the water,
+// the seabed class) using materialIdColour.
 void writeMaterialIdPng(const std::filesystem::path& path, const TruthImages& truth);
+// The legend of the truth images: one CSV row per id (-1 = nothing, then every material): id,
+// material name, type, the PNG's red, green, blue, and the fractions of pixels whose first hit
+// (materialId) and first opaque surface (surfaceId) it is.
+std::string truthLegendCsv(const TruthImages& truth, const std::vector<std::string>& names,
+                           const std::vector<std::string>& types);
 
 }  // namespace littoral::render

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
+#include "core/colour.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/material_kinds.h"
 #include "core/stats.h"
 #include "core/output_names.h"
 #include "core/render_budget.h"
@@ -12,6 +14,7 @@
 #include "render/estimator.h"
 #include "render/image_output.h"
 #include "render/progressive_checkpoint.h"
+#include "render/sensor_model.h"
 
 namespace littoral::render {
 
@@ -123,17 +126,78 @@ void warnIfPathsWereCut(int64_t traced0, int64_t cut0, const RenderConfig& confi
               100.0 * static_cast<double>(cut) / static_cast<double>(traced), cut, traced, config.maxBounces);
 }
 
+// The detector's SNR per band, and a warning when a band saturates (more than 1 % of the pixels
+// at the full well).
+void reportDetector(const std::string& sensor, const DetectorImage& det, const ir::SensorDetector& d,
+                    const std::vector<Band>& bands) {
+    for (size_t b = 0; b < det.bands.size(); ++b) {
+        const DetectorBandStats& st = det.bands[b];
+        if (st.clippedFraction > 0.01)
+            log::warn("sensor '{}' band [{}, {}] um: {:.3g} % of the pixels reach the detector's full well ({} electrons; "
+                      "the mean signal is {:.3g}): shorten integration_ms or narrow aperture_mm",
+                      sensor, bands[b].lo, bands[b].hi, 100 * st.clippedFraction, d.fullWell, st.meanSignalE);
+        else
+            log::info("sensor '{}' band [{}, {}] um: mean signal {:.4g} e-, noise {:.3g} e-, SNR {:.3g}", sensor, bands[b].lo,
+                      bands[b].hi, st.meanSignalE, st.meanNoiseE, st.snr);
+    }
+}
+
+// The outputs a sensor may not have (files[6] and [8..10] of sensorOutputFiles): written when it
+// has them; otherwise one left by an earlier run into this folder would sit beside outputs it does
+// not belong to, and is removed.
+void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, const std::filesystem::path& outDir,
+                          const std::vector<std::string>& files, const std::map<std::string, std::string>& meta,
+                          const RenderJobOptions& opts) {
+    auto optional = [&](size_t f, bool wanted, const char* what, auto&& write) {
+        std::error_code ec;
+        if (wanted) write(outDir / files[f]);
+        else if (std::filesystem::remove(outDir / files[f], ec))
+            log::info("removed {}, {} of an earlier run that this one does not write", (outDir / files[f]).string(), what);
+    };
+    optional(6, spansVisible(img.film.bands), "a true-colour preview",
+             [&](const std::filesystem::path& p) { writeTrueColourPng(p, img.film, opts.preview); });
+    const Film blurred = sensor.psf ? applyPsf(img.film, psfKernel(*sensor.psf)) : Film{};
+    optional(8, sensor.psf.has_value(), "a PSF-blurred radiance",
+             [&](const std::filesystem::path& p) { writeExr(p, blurred, meta); });
+    std::optional<DetectorImage> det;
+    if (sensor.detector) det = applyDetector(sensor.psf ? blurred : img.film, sensor, *sensor.detector);
+    optional(9, det.has_value(), "a detector image",
+             [&](const std::filesystem::path& p) { writeExr(p, det->radiance, meta); });
+    optional(10, det.has_value(), "a detector report", [&](const std::filesystem::path& p) {
+        writeTextFileAtomic(p, detectorReportJson(*det, *sensor.detector, img.film.bands));
+    });
+    if (det) reportDetector(img.sensor, *det, *sensor.detector, img.film.bands);
+}
+
+// Bands with a spectral response: the images and probe values over the internal sub-bands become
+// their weighted means. A probe's standard error is combined as sum w_i se_i, the bound for fully
+// correlated sub-bands (they share their sample paths).
+void applyResponseBands(const std::vector<ir::ResponseBand>& responses, RenderJobResult* res) {
+    if (responses.empty()) return;
+    for (SensorImage& img : res->images) img.film = combineBands(img.film, responses);
+    for (ProbeValue& v : res->probes) {
+        v.mean = combineValues(v.mean, responses);
+        std::vector<double> se;
+        for (double x : v.stderr_) se.push_back(std::abs(x));
+        v.stderr_ = combineValues(se, responses);
+    }
+}
+
 // Writes every image set and the probe tables (the run's outputs, through atomic temporaries).
 void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesystem::path& outDir,
                   const RenderJobOptions& opts, RenderJobResult& res) {
-    std::vector<std::string> materialNames;
-    for (const ir::Material& m : ir.materials) materialNames.push_back(m.name);
+    std::vector<std::string> materialNames, materialTypes;
+    for (const ir::Material& m : ir.materials) {
+        materialNames.push_back(m.name);
+        materialTypes.push_back(materialKind(m.type).info.name);
+    }
     for (const SensorImage& img : res.images) {
         const std::map<std::string, std::string> meta{{"scene", ir.name},
                                                       {"sensor", img.sensor},
                                                       {"seed", std::to_string(ir.render.seed)}};
         // File names from the one list that output_names.h checks for clashes:
-        // S.exr, S.img (+ S.hdr), S.png, S_truth.exr, S_material.png.
+        // S.exr, S.img (+ S.hdr), S.png, S_truth.exr, S_material.png, S_rgb.png (true colour),
+        // S_legend.csv, S_psf.exr, S_noisy.exr, S_detector.json (the sensor model).
         const std::vector<std::string> files = sensorOutputFiles(img.sensor);
         writeExr(outDir / files[0], img.film, meta);
         writeEnvi(outDir / files[1], img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor));
@@ -143,12 +207,17 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         writePngPreview(outDir / files[3], img.film, po);
         writeTruthExr(outDir / files[4], img.truth, materialNames);
         writeMaterialIdPng(outDir / files[5], img.truth);
-        for (const std::string& f : files) res.written.push_back(outDir / f);
+        writeTextFileAtomic(outDir / files[7], truthLegendCsv(img.truth, materialNames, materialTypes));
+        writeOptionalOutputs(*ir.findSensor(img.sensor), img, outDir, files, meta, opts);
+        for (const std::string& f : files)
+            if (std::filesystem::exists(outDir / f)) res.written.push_back(outDir / f);
     }
     if (!res.probes.empty()) {
         const std::vector<std::string> files = probeOutputFiles();
-        writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, scene.bands()));
-        writeTextFileAtomic(outDir / files[1], probesJson(res.probes, scene.bands()));
+        const std::vector<Band> bands =
+            ir.render.responseBands.empty() ? scene.bands() : nominalBands(ir.render.responseBands);
+        writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, bands));
+        writeTextFileAtomic(outDir / files[1], probesJson(res.probes, bands));
         for (const std::string& f : files) res.written.push_back(outDir / f);
     }
 }
@@ -206,6 +275,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         if (pass == passes) finish(state, &res.images, &res.probes, images, probes);
     }
     warnIfPathsWereCut(traced0, cut0, config);
+    applyResponseBands(ir.render.responseBands, &res);
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint

@@ -1,8 +1,12 @@
 #include "render/renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <set>
+#include <string>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -50,8 +54,9 @@ template <class F> void runTiles(const RenderOptions& opts, const Tiling& tiling
 }
 
 // Follows a pixel-centre ray through specular interfaces (refracting where possible, reflecting
-// under TIR) to the first opaque surface; returns its depth below z = 0 (0 above), NaN if none.
-float truthDepth(const Scene& scene, Ray ray, int maxEvents) {
+// under TIR) to the first opaque surface; returns its depth below z = 0 (0 above), NaN if none,
+// and sets *surface to its material index (left at -1 if none).
+float truthDepth(const Scene& scene, Ray ray, int maxEvents, int32_t* surface, SurfaceHit* opaque) {
     SurfaceHit h;
     for (int e = 0; e <= maxEvents; ++e) {
         if (!scene.geometry().intersect(ray, &h)) return std::numeric_limits<float>::quiet_NaN();
@@ -62,7 +67,11 @@ float truthDepth(const Scene& scene, Ray ray, int maxEvents) {
             ray = *next;
             continue;
         }
-        if (m.isOpaque()) return static_cast<float>(h.p.z < 0 ? -h.p.z : 0.0);
+        if (m.isOpaque()) {
+            *surface = scene.materialIndex(h);
+            *opaque = h;
+            return static_cast<float>(h.p.z < 0 ? -h.p.z : 0.0);
+        }
         const double nO = scene.media()[scene.nearMedium(h)].n(0);
         const double nT = scene.media()[scene.farMedium(h)].n(0);
         const Normal3 n = h.front ? h.ng : -h.ng;
@@ -151,6 +160,35 @@ void checkClearOfSurfaces(const Scene& scene, const Point3& p, const std::string
     });
 }
 
+namespace {
+// A hit on a vertical face at the domain's edge: a side wall of the water volume or of the seabed
+// (what a real site would continue past), seen directly or through the water.
+bool onDomainWall(const ir::Domain& d, const SurfaceHit& h) {
+    if (std::abs(h.ng.z) > 0.1) return false;
+    const double tol = 1e-6 * std::max({1.0, d.x1 - d.x0, d.y1 - d.y0});
+    return std::abs(h.p.x - d.x0) < tol || std::abs(h.p.x - d.x1) < tol || std::abs(h.p.y - d.y0) < tol ||
+           std::abs(h.p.y - d.y1) < tol;
+}
+
+// Pixels that see past the scene: a warning (the image is still what the scene holds), once per
+// sensor and only when at least one pixel in 10,000 is affected.
+void warnIfViewLeavesDomain(const ir::Domain& d, const std::string& who, int64_t past, int64_t walls, int64_t pixels) {
+    if (pixels <= 0 || static_cast<double>(past + walls) < 1e-4 * static_cast<double>(pixels)) return;
+    static std::mutex m;
+    static std::set<std::string> warned;  // renderTruth runs before and during rendering: say it once
+    {
+        std::lock_guard<std::mutex> lock(m);
+        if (!warned.insert(who).second) return;
+    }
+    const double pct = 100.0 / static_cast<double>(pixels);
+    log::warn("{}: {:.3g} % of the pixels see past the scene's domain (x [{:g}, {:g}], y [{:g}, {:g}] m): {:.3g} % look "
+              "down past its edge at nothing and {:.3g} % meet its side walls; they show no scene there (narrow the "
+              "view, move the sensor, or enlarge the domain)",
+              who, pct * static_cast<double>(past + walls), d.x0, d.x1, d.y0, d.y1, pct * static_cast<double>(past),
+              pct * static_cast<double>(walls));
+}
+}  // namespace
+
 TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
     const Camera cam(sensor);
     const std::string who = fmt::format("sensor '{}'", sensor.name);
@@ -167,24 +205,36 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
     // whichever estimator renders the radiance).
     const ParamValue* depth = scene.ir().render.settings.find("max_specular_depth");
     const int maxEvents = depth ? static_cast<int>(numberOf(*depth)) : 16;
+    std::atomic<int64_t> pastDomain{0}, onWalls{0};
     runTiles(opts, tiling, nullptr, [&](size_t tile) {
-        int64_t local = 0;
+        int64_t local = 0, past = 0, walls = 0;
         tiling.forEachPixel(tile, [&](int x, int y) {
             const Ray ray = cam.generateRay(x + 0.5, y + 0.5);
             SurfaceHit h;
             const size_t i = truth.index(x, y);
-            if (!scene.geometry().intersect(ray, &h)) return;
+            if (!scene.geometry().intersect(ray, &h)) {
+                past += ray.d.z < 0 ? 1 : 0;  // looking down at nothing: beyond the scene's ground
+                return;
+            }
             ++local;
             truth.materialId[i] = scene.materialIndex(h);
             truth.range[i] = static_cast<float>(h.t);
-            truth.hitDepth[i] = truthDepth(scene, ray, maxEvents);
+            SurfaceHit opaque;
+            truth.hitDepth[i] = truthDepth(scene, ray, maxEvents, &truth.surfaceId[i], &opaque);
+            const bool wall = onDomainWall(scene.ir().domain, h) ||
+                              (truth.surfaceId[i] >= 0 && onDomainWall(scene.ir().domain, opaque));
+            walls += wall ? 1 : 0;
         });
         hits += local;
+        pastDomain += past;
+        onWalls += walls;
     });
     if (hits.load() == 0)
         throw InputError(fmt::format("{}: empty view: none of the {} x {} pixel rays meets any geometry (check "
                                      "position, forward and the field of view)",
                                      who, cam.width(), cam.height()));
+    warnIfViewLeavesDomain(scene.ir().domain, who, pastDomain.load(), onWalls.load(),
+                           static_cast<int64_t>(cam.width()) * cam.height());
     return truth;
 }
 

@@ -16,6 +16,7 @@
 #include "core/probe_quantities.h"
 #include "core/sensor_types.h"
 #include "core/solar_position.h"
+#include "core/spectral_response.h"
 #include "core/suggest.h"
 #include "core/text_checks.h"
 #include "core/units.h"
@@ -174,8 +175,132 @@ std::vector<std::string> sensorKeys() {
     for (const SensorKind& k : sensorTypeKinds().kinds())
         for (const ParamSpec& p : k.info.params)
             if (std::find(keys.begin(), keys.end(), p.sceneName()) == keys.end()) keys.push_back(p.sceneName());
-    keys.insert(keys.end(), {"width", "height", "samples_per_pixel", "medium"});
+    keys.insert(keys.end(), {"width", "height", "samples_per_pixel", "medium", "psf", "detector"});
     return keys;
+}
+
+// A band with a spectral response: `{centre_um, fwhm_um}` (Gaussian) or `{response: SPECTRUM}`
+// (a table, inline or {file: srf.csv}, of relative response >= 0 that falls to at most 1 % of its
+// peak at both ends, so that the table holds the whole band).
+ResponseSpec parseResponseBand(const YamlNode& n) {
+    n.expectKeys({"centre_um", "fwhm_um", "response"});
+    ResponseSpec r;
+    if (auto t = n.optional("response")) {
+        for (const char* k : {"centre_um", "fwhm_um"})
+            if (n.has(k)) n[k].fail("give a band either 'centre_um' and 'fwhm_um' (Gaussian) or 'response' (a table)");
+        const Spectrum sp = parseSpectrum(*t, 0, 1e6, "");
+        if (sp.isConstant() || sp.wavelengths().size() < 3)
+            t->fail("a spectral response is a table of at least 3 (wavelength_um, response) rows");
+        r.kind = ResponseSpec::Kind::Table;
+        r.wl = sp.wavelengths();
+        r.value = sp.values();
+        const double peak = *std::max_element(r.value.begin(), r.value.end());
+        if (!(peak > 0)) t->fail("the response is zero everywhere");
+        for (const bool first : {true, false}) {
+            const double v = first ? r.value.front() : r.value.back(), at = first ? r.wl.front() : r.wl.back();
+            if (v > 0.01 * peak)
+                t->fail(fmt::format("the table does not cover its band: the response at its {} end, {} um, is {:.3g} % "
+                                    "of its peak (at most 1 %); extend the table until the response falls to zero",
+                                    first ? "short" : "long", at, 100 * v / peak));
+        }
+        if (r.wl.front() < 0.2 || r.wl.back() > 20) t->fail("allowed wavelengths are 0.2 to 20 um");
+        return r;
+    }
+    r.kind = ResponseSpec::Kind::Gaussian;
+    r.centre = n["centre_um"].asDouble(0.2, 20, "um");
+    r.fwhm = n["fwhm_um"].asDouble(0.0005, 1, "um");
+    if (r.centre - kGaussianSupportFwhm * r.fwhm < 0.2 || r.centre + kGaussianSupportFwhm * r.fwhm > 20)
+        n.fail(fmt::format("the band's support, centre +- {} FWHM = [{}, {}] um, leaves the allowed 0.2 to 20 um",
+                           kGaussianSupportFwhm, r.centre - kGaussianSupportFwhm * r.fwhm,
+                           r.centre + kGaussianSupportFwhm * r.fwhm));
+    return r;
+}
+
+// A PSF kernel file: rows of non-negative numbers separated by commas or blanks, '#' comments;
+// every row as long as the first, odd width and height up to ir::kMaxPsfSide.
+ir::SensorPsf parsePsfKernelCsv(std::string_view text, const std::string& file) {
+    requireUtf8(text, file);
+    ir::SensorPsf psf;
+    psf.type = "kernel";
+    int lineNo = 0;
+    size_t pos = 0;
+    while (pos <= text.size()) {
+        const size_t end = std::min(text.find('\n', pos), text.size());
+        std::string line(text.substr(pos, end - pos));
+        pos = end + 1;
+        ++lineNo;
+        if (const size_t h = line.find('#'); h != std::string::npos) line.resize(h);
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream in(line);
+        std::vector<double> row;
+        std::string tok;
+        while (in >> tok) {
+            char* stop = nullptr;
+            const double v = std::strtod(tok.c_str(), &stop);
+            if (stop == tok.c_str() || *stop != '\0' || !std::isfinite(v) || v < 0)
+                throw InputError(SourceLoc{file, lineNo, 1},
+                                 fmt::format("PSF value '{}' is not a finite number >= 0", printableName(tok)));
+            row.push_back(v);
+        }
+        if (row.empty()) continue;
+        if (psf.width == 0) psf.width = static_cast<int>(row.size());
+        if (static_cast<int>(row.size()) != psf.width)
+            throw InputError(SourceLoc{file, lineNo, 1}, fmt::format("this row has {} values, the first row {}; a "
+                                                                     "kernel is a rectangle", row.size(), psf.width));
+        if (++psf.height > ir::kMaxPsfSide || psf.width > ir::kMaxPsfSide)
+            throw InputError(SourceLoc{file, lineNo, 1}, fmt::format("a PSF kernel is at most {} x {} values",
+                                                                     ir::kMaxPsfSide, ir::kMaxPsfSide));
+        psf.values.insert(psf.values.end(), row.begin(), row.end());
+    }
+    if (psf.width == 0) throw InputError(SourceLoc{file}, "the file holds no kernel rows");
+    if (psf.width % 2 == 0 || psf.height % 2 == 0)
+        throw InputError(SourceLoc{file}, fmt::format("the kernel is {} x {}; its width and height must be odd (its "
+                                                      "centre is the pixel itself)", psf.width, psf.height));
+    double sum = 0;
+    for (double v : psf.values) sum += v;
+    if (!(sum > 0)) throw InputError(SourceLoc{file}, "the kernel is all zero");
+    return psf;
+}
+
+// `psf: {type: gaussian, fwhm_px: F}` or `psf: {type: kernel, file: K.csv}`.
+ir::SensorPsf parseSensorPsf(const YamlNode& n) {
+    const std::string type = n["type"].asEnum({"gaussian", "kernel"});
+    if (type == "gaussian") {
+        n.expectKeys({"type", "fwhm_px"});
+        ir::SensorPsf psf;
+        psf.type = type;
+        psf.fwhmPx = n["fwhm_px"].asDouble(0.1, 50, "px");
+        return psf;
+    }
+    n.expectKeys({"type", "file"});
+    const YamlNode f = n["file"];
+    const fs::path p = f.asExistingPath();
+    std::string text;
+    try {
+        text = readTextFile(p);
+    } catch (const InputError& e) {
+        f.fail(fmt::format("cannot read '{}': {}", p.string(), e.message()));
+    }
+    try {
+        return parsePsfKernelCsv(text, p.string());
+    } catch (const InputError& e) {
+        if (e.where().line > 0) throw;  // located in the kernel file
+        f.fail(fmt::format("{}: {}", p.string(), e.message()));
+    }
+}
+
+// `detector:` in the units of a data sheet (mm, ms, electrons, bits).
+ir::SensorDetector parseSensorDetector(const YamlNode& n, uint64_t defaultSeed) {
+    n.expectKeys({"aperture_mm", "integration_ms", "quantum_efficiency", "read_noise_e", "full_well_e", "bits", "seed"});
+    ir::SensorDetector d;
+    d.apertureDiameter = 1e-3 * n["aperture_mm"].asDouble(0.01, 10000, "mm");
+    d.integrationTime = 1e-3 * n["integration_ms"].asDouble(1e-6, 1e5, "ms");
+    d.quantumEfficiency = n["quantum_efficiency"].asDouble(1e-6, 1, "");
+    d.readNoise = n.getDouble("read_noise_e", 0, 0, 1e6, "electrons");
+    d.fullWell = n["full_well_e"].asDouble(1, 1e9, "electrons");
+    d.bits = static_cast<int>(n.getInt("bits", 12, 1, 24));
+    d.seed = static_cast<uint64_t>(n.getInt("seed", static_cast<long long>(defaultSeed), 0, 1LL << 62));
+    return d;
 }
 
 // The scene keys of every sensor type's parameters, in registration order.
@@ -294,6 +419,14 @@ SensorSection parseSensor(const YamlNode& n) {
                "it is placed by position and direction");
         parsePlacement(n, &s);
         parseSensorOptics(n, sensorTypeKinds().get(s.type, ""), &s);
+    }
+    if (auto p = n.optional("psf")) s.psf = parseSensorPsf(*p);
+    if (auto d = n.optional("detector")) {
+        if (s.type == "orthographic")
+            d->fail("an orthographic sensor has no optics to collect light (aperture and pixel solid angle): a detector "
+                    "needs a frame or pinhole sensor");
+        s.detector = parseSensorDetector(*d, 1);
+        s.detectorSeedGiven = d->has("seed");
     }
     return s;
 }
@@ -544,9 +677,29 @@ void parseScatterers(const YamlNode& list, LayerOptics* o) {
 void parseIops(const YamlNode& n, const std::vector<Band>& bands, LayerOptics* o) {
     o->loc = n.loc();
     checkOneMediumModel(n);
+    if (auto pw = n.optional("pure_water"); pw && !n.has("preset"))
+        pw->fail("pure_water goes beside 'preset' (for a preset that lists no pure water) or inside 'constituents'");
     if (auto p = n.optional("preset")) {
         const std::string name = p->asEnum(waterPresetKinds().names());
-        const WaterIops w = waterPresetKinds().find(name)->make();
+        const WaterPresetKind& kind = *waterPresetKinds().find(name);
+        WaterIops w = kind.make();
+        if (auto pw = n.optional("pure_water"); pw && kind.pureWater != "added")
+            pw->fail(fmt::format("not used: preset '{}' {}; remove 'pure_water'", name,
+                                 kind.pureWater == "in total" ? "gives measured totals, which hold the water's own IOPs"
+                                                              : "is a purely refracting medium without water's IOPs"));
+        if (kind.pureWater == "added" && n.getEnum("pure_water", "sea", {"sea", "fresh", "none"}) != "none") {
+            WaterComposition water;
+            water.water = n.getEnum("pure_water", "sea", {"sea", "fresh", "none"}) == "fresh" ? WaterKind::Fresh : WaterKind::Sea;
+            try {
+                const WaterIops pure = computeIops(water, constituentGrid(bands));
+                w.components.insert(w.components.begin(), pure.components.begin(), pure.components.end());
+                w.includesPureWater = true;
+            } catch (const InputError& e) {
+                n.optional("pure_water") ? n["pure_water"].fail(e.message()) : p->fail(e.message() + " (the pure water "
+                                                                                        "this preset adds; pure_water: "
+                                                                                        "none leaves it out)");
+            }
+        }
         o->preset = name;
         o->absorption = w.absorption();
         for (const IopComponent& c : w.components)
@@ -599,20 +752,21 @@ void parseWater(const YamlNode& n, const std::vector<Band>& bands, SceneSpec* sp
     auto& o = spec->waterOptics;
     if (auto op = n.optional("optics")) {
         o.loc = op->loc();
-        op->expectKeys({"preset", "constituents", "refractive_index", "absorption_per_m", "scattering_per_m", "scatterers",
-                        "phase", "interface", "layers", "solver"});
+        op->expectKeys({"preset", "pure_water", "constituents", "refractive_index", "absorption_per_m",
+                        "scattering_per_m", "scatterers", "phase", "interface", "layers", "solver"});
         if (auto sv = op->optional("solver")) {
             o.solver = sv->asEnum(allNames<ir::Medium::Solver>());
             o.solverLoc = sv->loc();
         }
         if (auto ri = op->optional("refractive_index")) o.refractiveIndex = parseSpectrum(*ri, 1.0, 3.0, "");
         if (auto ls = op->optional("layers")) {
-            for (const char* k : {"preset", "constituents", "absorption_per_m", "scattering_per_m", "scatterers", "phase"})
+            for (const char* k :
+                 {"preset", "pure_water", "constituents", "absorption_per_m", "scattering_per_m", "scatterers", "phase"})
                 if (op->has(k)) (*op)[k].fail("give the IOPs of each layer under 'layers', not beside it");
             double expectTop = 0;
             for (const auto& it : ls->items()) {
-                it.expectKeys({"depth_m", "preset", "constituents", "absorption_per_m", "scattering_per_m", "scatterers",
-                               "phase"});
+                it.expectKeys({"depth_m", "preset", "pure_water", "constituents", "absorption_per_m",
+                               "scattering_per_m", "scatterers", "phase"});
                 const auto d = it["depth_m"].asDoubleList(0, 1e5, "m");
                 if (d.size() != 2 || !(d[1] > d[0])) it["depth_m"].fail("expected [top, bottom] depths with top < bottom");
                 if (d[0] != expectTop)
@@ -712,12 +866,29 @@ void parseRender(const YamlNode& n, RenderSection* r) {
             if (rng[0] < 0.2 || rng[1] > 20) (*b)["range_um"].fail("allowed wavelengths are 0.2 to 20 um");
             s.bands = uniformBands(rng[0], rng[1], static_cast<int>(b->getInt("count", 1, 1, 1000)));
         } else {
+            std::vector<ResponseSpec> specs;
+            bool responses = false;
             for (const auto& it : b->items()) {
+                if (it.isMap()) {
+                    specs.push_back(parseResponseBand(it));
+                    responses = true;
+                    continue;
+                }
                 const auto v = parsePair(it);
                 if (v[0] < 0.2 || v[1] > 20) it.fail("allowed wavelengths are 0.2 to 20 um");
                 s.bands.push_back({v[0], v[1]});
+                specs.push_back({ResponseSpec::Kind::Rectangle, v[0], v[1], 0, 0, {}, {}});
             }
-            if (s.bands.empty()) b->fail("list at least one band [lo_um, hi_um]");
+            if (specs.empty()) b->fail("list at least one band [lo_um, hi_um]");
+            if (responses) {  // the renderer renders the sub-bands; the outputs are their weighted means
+                try {
+                    ResponseGrid g = responseGrid(specs);
+                    s.bands = std::move(g.internal);
+                    s.responseBands = std::move(g.outputs);
+                } catch (const InputError& e) {
+                    b->fail(e.message());
+                }
+            }
         }
     }
     s.seed = static_cast<uint64_t>(n.getInt("seed", 1, 0, (1LL << 62)));
@@ -816,15 +987,31 @@ void checkWaterOptics(const SceneSpec& spec, const YamlNode& w) {
     }
     // Every accepted setting is read: a phase function written in the file is used only where
     // light is scattered rather than lost: by the path estimator, or by the dirsig estimator's
-    // MediumPM solver (without it, dirsig treats scattering as loss, Beer–Lambert with c = a + b).
-    if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver.empty())
+    // MediumPM solver (with `solver: attenuation`, dirsig treats scattering as loss).
+    if (spec.render.settings.estimator == ir::Estimator::Dirsig && o.solver == "attenuation")
         for (const LayerOptics* l : waterLayers(o))
             if (l->phaseGiven)
-                throw InputError(l->loc, fmt::format("water.optics {}: not used: the dirsig estimator treats "
-                                                     "scattering as loss (Beer–Lambert with c = a + b) unless "
-                                                     "water.optics.solver is medium-pm; use render.estimator: path, "
-                                                     "the medium-pm solver, or remove '{}'",
+                throw InputError(l->loc, fmt::format("water.optics {}: not used: water.optics.solver attenuation "
+                                                     "treats scattering as loss (Beer–Lambert with c = a + b); use "
+                                                     "the medium-pm solver (the default), render.estimator: path, "
+                                                     "or remove '{}'",
                                                      l->phaseKey, l->phaseKey));
+}
+
+// Correct by default: water that scatters in some band is rendered with its in-scattered light.
+// Under the dirsig estimator that is the MediumPM solver (the volume photon map); the path
+// estimator always follows scattering. `solver: attenuation` keeps the loss-only water.
+void defaultWaterSolver(SceneSpec* spec) {
+    WaterOptics& o = spec->waterOptics;
+    if (!spec->hasWater || !o.solver.empty() || spec->render.settings.estimator != ir::Estimator::Dirsig) return;
+    for (const LayerOptics* l : waterLayers(o))
+        for (const ir::Scatterer& sc : l->scatterers)
+            for (double b : sc.scattering.bandAverages(spec->render.settings.bands, "water scattering"))
+                if (b > 0) {
+                    o.solver = nameOf(ir::Medium::Solver::MediumPM);
+                    o.solverDefaulted = true;
+                    return;
+                }
 }
 
 }  // namespace
@@ -864,6 +1051,8 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
         checkUniqueNames(spec.materials, "material", *s);
     }
     if (auto s = root.optional("render")) parseRender(*s, &spec.render);
+    for (SensorSection& s : spec.sensors)  // a detector's noise follows the render's seed unless given its own
+        if (s.detector && !s.detectorSeedGiven) s.detector->seed = spec.render.settings.seed;
     if (auto s = root.optional("water")) parseWater(*s, spec.render.settings.bands, &spec);
     spec.bathymetry = root.optional("bathymetry");
     spec.objects = root.optional("objects");
@@ -872,6 +1061,7 @@ SceneSpec parseScene(const YamlNode& root, const fs::path& file) {
     // Every spectrum must cover every band: checked here so the error names the scene file.
     checkSpectraCoverBands(spec, root);
     if (auto w = root.optional("water")) checkWaterOptics(spec, *w);
+    defaultWaterSolver(&spec);
     return spec;
 }
 
@@ -886,6 +1076,8 @@ ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater)
     c.width = s.width;
     c.height = s.height;
     c.samplesPerPixel = s.samplesPerPixel;
+    c.psf = s.psf;
+    c.detector = s.detector;
     if (s.type == "frame") {
         // Table 10.1 geometry: the sensor sits at compass azimuth phi (clockwise from north, as seen
         // from the target) and elevation e, at slant range d. The IFOV follows from the GSD along the
@@ -986,7 +1178,7 @@ void applyWater(const SceneSpec& spec, ir::SceneIR* ir) {
     const WaterOptics& o = spec.waterOptics;
     ir::Medium w;
     w.name = "water";
-    w.origin = o.solver.empty() ? o.loc : o.solverLoc;
+    w.origin = o.solver.empty() || o.solverDefaulted ? o.loc : o.solverLoc;
     if (!o.solver.empty()) w.solver = parseName<ir::Medium::Solver>(o.solver);
     w.refractiveIndex = o.refractiveIndex;
     auto layerOf = [](const LayerOptics& l) {

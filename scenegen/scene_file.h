@@ -63,6 +63,9 @@ struct SensorSection {
     int width = 0, height = 0;
     int samplesPerPixel = 1;
     std::string medium = "auto";  // auto | air | water
+    std::optional<ir::SensorPsf> psf;            // render/sensor_model.h
+    std::optional<ir::SensorDetector> detector;  // its seed defaults to render.seed
+    bool detectorSeedGiven = false;
 };
 
 struct ProbeSection {
@@ -108,7 +111,10 @@ struct WaterOptics {
     // still-water level; the last layer continues downward without limit.
     std::vector<double> layerTops;        // depth of each layer's top (first = 0)
     std::vector<LayerOptics> layers;
-    std::string solver;                       // "" (attenuation only) | medium-pm (dirsig estimator)
+    // "" (none given) | medium-pm | attenuation. The dirsig estimator's scattering water with none
+    // given takes medium-pm (solverDefaulted), so that its in-scattered light is rendered.
+    std::string solver;
+    bool solverDefaulted = false;
     SourceLoc loc, solverLoc;
 };
 

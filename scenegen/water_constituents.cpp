@@ -353,24 +353,27 @@ WaterIops table93(const std::string& name, const char* group, double a, double b
 
 namespace {
 
-WaterPresetKind presetKind(const std::string& name, std::string doc, std::function<WaterIops()> make) {
-    return {KindInfo{"water preset", name, std::move(doc), {}}, std::move(make)};
+WaterPresetKind presetKind(const std::string& name, std::string doc, std::function<WaterIops()> make,
+                           std::string pureWater = "no") {
+    return {KindInfo{"water preset", name, std::move(doc), {}}, std::move(make), std::move(pureWater)};
 }
 
 WaterPresetKind table103Kind(const std::string& name, double scale) {
     return presetKind(name,
                       fmt::format("Speir (2010) Table 10.3: {} x the Table 9.6 chlorophyll, TSS and CDOM spectra, "
-                                  "tabulated at 0.4, 0.5, 0.6 um, HG g = 0.88; pure water not included",
+                                  "tabulated at 0.4, 0.5, 0.6 um, HG g = 0.88; the source lists no pure water, so a "
+                                  "scene file adds it (pure_water: sea, the default; fresh; or none for the table as "
+                                  "printed)",
                                   scale),
-                      [name, scale] { return table103(name, scale); });
+                      [name, scale] { return table103(name, scale); }, "added");
 }
 
 WaterPresetKind table93Kind(const std::string& name, const char* group, double a, double b) {
     return presetKind(name,
-                      fmt::format("Speir (2010) Table 9.3, {}: spectrally flat a = {}, b = {} m^-1, HG g = 0.92; pure "
-                                  "water not included",
+                      fmt::format("Speir (2010) Table 9.3, {}: spectrally flat a = {}, b = {} m^-1, HG g = 0.92; "
+                                  "measured totals, which hold the pure water's own absorption and scattering",
                                   group, a, b),
-                      [name, group, a, b] { return table93(name, group, a, b); });
+                      [name, group, a, b] { return table93(name, group, a, b); }, "in total");
 }
 
 WaterIops pureKind() {

@@ -145,7 +145,13 @@ const KindRegistry<MediumModelKind>& mediumModelKinds();
 // whether it includes pure water (none does), and its factory.
 struct WaterPresetKind {
     KindInfo info;  // family "water preset"; no parameters
-    std::function<WaterIops()> make;
+    std::function<WaterIops()> make;  // the source's IOPs as published
+    // Pure water in the preset (docs/scene-format.md's "pure water" column):
+    //   "added"    the source lists the constituents alone; a scene file adds pure water (its key
+    //              `pure_water` beside `preset`: sea (default), fresh, or none for the source as printed);
+    //   "in total" the source's a and b are measured totals, which hold the water's own;
+    //   "no"       none (a purely refracting medium).
+    std::string pureWater = "no";
 };
 inline const KindInfo& kindInfo(const WaterPresetKind& k) { return k.info; }
 const KindRegistry<WaterPresetKind>& waterPresetKinds();

@@ -79,7 +79,7 @@ sun: {zenith_deg: 30, azimuth_deg: 135, irradiance: 1000}
 sky: {radiance: 0}
 water:
   surface: {model: flat, size: [20, 20]}
-  optics: {preset: coastal}
+  optics: {preset: coastal, solver: attenuation}   # the direct beam alone (scattering as loss)
 bathymetry: {type: planar_slope, z0_m: -3, slope_x: 0.1, slope_y: 0, spacing_m: 1.0, material: floor}
 materials:
   - {name: floor, type: black}

@@ -481,9 +481,10 @@ TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
                                  "render: {photons: {surface: 10000000000}, "));
     EXPECT_EQ(r.status, 1) << r.output;
     // One band: a surface record is 12 + 4 + 4 + 2 = 22 B, 23.4 B with the pass's 1/16 reserve, plus
-    // 8 B of grid and 20 B of build buffers = 51.4 B; 10^10 of them are 5.14e11 B = 478 GiB.
-    EXPECT_TRUE(contains(r.output, "scene.yaml:11:29: error: render.photons.surface: 10000000000 surface and 0 volume "
-                                   "photons need 478 GiB (51 and 47 bytes each with the search grid and its build "
+    // 8 B of grid and 20 B of build buffers = 51.4 B; 10^10 of them are 5.14e11 B = 478.7 GiB, and
+    // the default 10^6 volume photons of the scattering (coastal) water add 47 MB: 479 GiB.
+    EXPECT_TRUE(contains(r.output, "scene.yaml:11:29: error: render.photons.surface: 10000000000 surface and 1000000 "
+                                   "volume photons need 479 GiB (51 and 47 bytes each with the search grid and its build "
                                    "buffers), more than the memory budget of"))
         << r.output;
     expectNothingWritten(out_, "photons");

@@ -944,7 +944,8 @@ TEST(KindDescriptors, DocsListExactlyTheSensorTypesAndMediumModels) {
         presets.push_back(row[0]);
         const WaterPresetKind* k = waterPresetKinds().find(row[0]);
         ASSERT_NE(k, nullptr) << row[0];
-        EXPECT_EQ(row[1], k->make().includesPureWater ? "yes" : "no") << row[0];
+        EXPECT_EQ(row[1], k->pureWater) << row[0];
+        EXPECT_FALSE(k->make().includesPureWater) << row[0];  // make() is the source as published
         EXPECT_EQ(row[2], k->info.doc) << row[0];
     }
     EXPECT_EQ(presets, waterPresetKinds().names());

@@ -35,7 +35,7 @@ sun: {zenith_deg: 30, azimuth_deg: 135, irradiance: 1000}
 sky: {radiance: 0}
 water:
   surface: {model: flat, size: [20, 20]}
-  optics: {preset: coastal}
+  optics: {preset: coastal, solver: attenuation}   # the direct beam alone (scattering as loss)
 bathymetry: {type: planar_slope, z0_m: -3, slope_x: 0.1, slope_y: 0, spacing_m: 1.0, material: floor}
 materials:
   - {name: floor, type: black}
@@ -55,7 +55,7 @@ sun: {zenith_deg: 30, azimuth_deg: 135, irradiance: 1000}
 sky: {radiance: 0}
 water:
   surface: {model: sinusoid, amplitude: 0.4, wavelength: 5.0, size: [20, 20], centre: [0, 0], spacing: 0.1}
-  optics: {preset: coastal}
+  optics: {preset: coastal, solver: attenuation}   # the direct beam alone (scattering as loss)
 bathymetry: {type: planar_slope, z0_m: -3, spacing_m: 1.0, material: floor}
 materials:
   - {name: floor, type: black}

@@ -98,21 +98,29 @@ TEST(RenderSettingsCli, LayerStackWithGapsOrOverlaps) {
 TEST(RenderSettingsCli, SettingTheEstimatorDoesNotRead) {
     expectRefused({"hemisphere-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  hemisphere_samples: 32\n"),
                    ":22:23", "render.hemisphere_samples: is set, but the 'path' estimator does not read it"});
+    // Under dirsig scattering water takes the medium-pm solver, which reads the march step; water
+    // whose scattering is loss (solver attenuation) has no in-scatter to march for.
     expectRefused({"march-under-dirsig",
                    replaceLine(replaceLine(replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"),
-                                           "    phase: {type: henyey-greenstein, g: 0.9}\n", ""),
+                                           "    phase: {type: henyey-greenstein, g: 0.9}\n", "    solver: attenuation\n"),
                                "  probe_batches: 4\n", "  probe_batches: 4\n  march_step_m: 0.2\n"),
-                   ":21:17", "render.march_step_m: is set, but the 'dirsig' estimator does not read it"});
+                   ":22:17", "render.march_step_m: is set, but the 'dirsig' estimator does not read it"});
     expectRefused({"photons-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  photons: {surface: 1000}\n"),
                    ":22:22", "render.photons.surface: is set, but the 'path' estimator does not read it"});
-    expectRefused({"phase-under-dirsig", replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"), ":10:5",
-                   "water.optics phase: not used: the dirsig estimator treats scattering as loss"});
+    expectRefused({"phase-under-attenuation",
+                   replaceLine(replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"), "    scattering_per_m: 0.3\n",
+                               "    scattering_per_m: 0.3\n    solver: attenuation\n"),
+                   ":10:5", "water.optics phase: not used: water.optics.solver attenuation treats scattering as loss"});
+    expectRefused({"attenuation-under-path",
+                   replaceLine(kBase, "    scattering_per_m: 0.3\n", "    scattering_per_m: 0.3\n    solver: attenuation\n"),
+                   ":12:13", "the path estimator does not use medium solvers; remove solver 'attenuation'"});
     expectRefused({"solver-under-path", replaceLine(kBase, "{name: floor, reflectance: 0.2}", "{name: floor, reflectance: 0.2, solver: generic}"),
                    ":15:5", "the path estimator does not use per-material solvers"});
 }
 
-// Photon-map settings (issue 9): a radius of zero or below, a photon-map solver with no photons
-// asked for, and more photons than the memory budget allows.
+// Photon-map settings (issue 9): a radius of zero or below, more photons than the memory budget
+// allows, and a radius wider than the scene (a medium-pm water without render.photons.volume takes
+// the default 1,000,000).
 TEST(RenderSettingsCli, PhotonMapSettings) {
     // The base with the volume map: dirsig, water solver medium-pm, photons and radius given.
     const std::string pm = replaceLine(
@@ -130,8 +138,6 @@ TEST(RenderSettingsCli, PhotonMapSettings) {
                    "search_radius_m.volume: 0 is out of range; allowed [0.0001, 100]"});
     expectRefused({"radius-negative", replaceLine(pm, "{volume: 0.3}", "{volume: -0.5}"), ":24:29",
                    "search_radius_m.volume: -0.5 is out of range; allowed [0.0001, 100]"});
-    expectRefused({"solver-without-photons", replaceLine(pm, "  photons: {volume: 20000}\n", ""), ":13:13",
-                   "medium 'water': the medium-pm solver needs the volume photon map: set render.photons.volume"});
     expectRefused({"photons-over-budget", replaceLine(pm, "{volume: 20000}", "{volume: 9000000000}"), ":23:21",
                    "more than the memory budget"});
     // A radius wider than the 20 m domain (issue 20; the hostile report's a07: 40 m on a 4 m

@@ -488,7 +488,7 @@ TEST(Truth, MaterialIdTiffIsInt32) {
 TEST(Truth, FalseColourPng) {
     const fs::path dir = scratchDir("truth_png");
     TruthImages t(17, 1);
-    for (int i = 0; i < 17; ++i) t.materialId[i] = i - 1;  // -1 .. 15
+    for (int i = 0; i < 17; ++i) t.surfaceId[i] = i - 1;  // -1 .. 15 (the PNG shows the opaque surface)
     writeMaterialIdPng(dir / "ids.png", t);
     int w, h, nc;
     const std::vector<uint8_t> px = readPng(dir / "ids.png", &w, &h, &nc);

@@ -92,8 +92,9 @@ TEST(SceneFile, ValidSceneParses) {
     EXPECT_EQ(spec.waterOptics.iops.preset, "low");
     // Table 10.3 "Low" at 0.5 um: a = 0.001469 + 0.003963 + 0.001472 = 0.006904 m^-1. The preset is
     // 0.01 x the Table 9.6 spectra, of which the printed entries are 6-decimal truncations (up to
-    // 1e-6 each), so the sum of three may differ by up to 3e-6.
-    EXPECT_NEAR(spec.waterOptics.iops.absorption.at(0.5), 0.006904, 3e-6);
+    // 1e-6 each), so the sum of three may differ by up to 3e-6. The scene file adds pure sea water,
+    // 0.0204 m^-1 at 500 nm (Pope & Fry 1997), which the table at 2.5 nm holds exactly.
+    EXPECT_NEAR(spec.waterOptics.iops.absorption.at(0.5), 0.006904 + 0.0204, 3e-6);
 }
 
 TEST(SceneFile, UnknownKey) {
@@ -247,6 +248,36 @@ TEST(SceneFile, EachScattererKeepsItsOwnPhaseFunction) {
     EXPECT_EQ(k[2].phase.type, "fournier-forand");
 }
 
+// The Table 10.3 presets list the constituents alone (spec/seed-ch05-10.md 3.4: "Pure water is not
+// listed"); a scene file adds pure sea water. At 0.5 um "low" sums to a = 0.006904 m^-1, Pope &
+// Fry (1997) give pure water 0.0204 m^-1 (their 500 nm entry) and Morel (1974) sea water b =
+// 0.0029 m^-1 (docs/scene-format.md); `pure_water: none` keeps the table as printed. The band is
+// 2 nm wide around 500 nm, over which both curves are linear to well within the tolerances.
+TEST(SceneFile, TableTenThreePresetsAddPureWaterUnlessToldNot) {
+    auto parse = [](const std::string& name, const std::string& optics, const std::string& render = "") {
+        return loadSceneFile(writeScene(name, "scene: {name: s}\nrender: {bands: [[0.495, 0.505]]" + render +
+                                                  "}\nwater:\n  optics:\n    preset: low\n" + optics));
+    };
+    const SceneSpec with = parse("low.yaml", ""), without = parse("low_none.yaml", "    pure_water: none\n");
+    const double aWith = with.waterOptics.iops.absorption.at(0.5);
+    const double aWithout = without.waterOptics.iops.absorption.at(0.5);
+    EXPECT_NEAR(aWithout, 0.006904, 3e-6);  // 6-decimal truncations, as in ValidSceneParses
+    // The added water is tabulated on the band's 5 nm grid (0.495, 0.5, 0.505 um), so at 0.5 um it
+    // is Pope & Fry's entry, printed to 3 significant digits (+-5e-5).
+    EXPECT_NEAR(aWith - aWithout, 0.0204, 5e-5);
+    double bWater = 0;
+    for (const auto& sc : with.waterOptics.iops.scatterers)
+        if (sc.name == "pure water") bWater = sc.scattering.at(0.5);
+    EXPECT_NEAR(bWater, 0.0029, 1e-4);
+    EXPECT_EQ(with.waterOptics.iops.scatterers.size(), without.waterOptics.iops.scatterers.size() + 1);
+    // The dirsig estimator renders this water's in-scatter unless told not to; the path estimator
+    // follows scattering itself and takes no solver.
+    EXPECT_EQ(with.waterOptics.solver, "medium-pm");
+    EXPECT_TRUE(with.waterOptics.solverDefaulted);
+    EXPECT_EQ(parse("low_att.yaml", "    solver: attenuation\n").waterOptics.solver, "attenuation");
+    EXPECT_EQ(parse("low_path.yaml", "", ", estimator: path").waterOptics.solver, "");
+}
+
 // What cannot be honoured is refused at its key (line:column of the offending node).
 TEST(SceneFile, PhaseFunctionsThatCannotBeHonouredAreRefusedWhereTheyAreWritten) {
     const std::string head = "scene: {name: s}\nwater:\n  optics:\n";
@@ -266,8 +297,12 @@ TEST(SceneFile, PhaseFunctionsThatCannotBeHonouredAreRefusedWhereTheyAreWritten)
         {head + "    scatterers: [{name: a, scattering_per_m: 0.1}, {name: b, scattering_per_m: 0.1}, {name: c, "
                 "scattering_per_m: 0.1}, {name: d, scattering_per_m: 0.1}, {name: e, scattering_per_m: 0.1}]\n",
          "at most 4 per layer", 4, 17},
-        {head + "    scatterers: [{name: a, scattering_per_m: 0.1, phase: {type: petzold}}]\n",
-         "scatterers[].phase: not used: the dirsig estimator", 4, 5},
+        {head + "    solver: attenuation\n    scatterers: [{name: a, scattering_per_m: 0.1, phase: {type: petzold}}]\n",
+         "scatterers[].phase: not used: water.optics.solver attenuation treats scattering as loss", 4, 5},
+        {head + "    preset: coastal\n    pure_water: sea\n", "not used: preset 'coastal' gives measured totals", 5, 17},
+        {head + "    preset: pure\n    pure_water: fresh\n", "not used: preset 'pure' is a purely refracting", 5, 17},
+        {head + "    absorption_per_m: 0.1\n    pure_water: sea\n", "pure_water goes beside 'preset'", 5, 17},
+        {head + "    preset: low\n    pure_water: salty\n", "salty", 5, 17},
     };
     for (const Case& c : cases) {
         const std::string msg = errorOf("refused.yaml", c.text);
