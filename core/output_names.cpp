@@ -79,7 +79,7 @@ std::vector<std::string> sensorOutputFiles(std::string_view sensor) {
             s + "_legend.csv", s + "_psf.exr", s + "_noisy.exr", s + "_detector.json"};
 }
 
-std::vector<std::string> probeOutputFiles() { return {"probes.csv", "probes.json"}; }
+std::vector<std::string> probeOutputFiles() { return {"probes.csv", "probes.json", "kd.csv"}; }
 
 std::optional<OutputClash> findOutputClash(const std::vector<std::string>& sensors, bool withProbes) {
     std::map<std::string, size_t> owner;  // lower-cased file name -> sensor index

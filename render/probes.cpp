@@ -290,4 +290,32 @@ std::string probesJson(const std::vector<ProbeValue>& values, const std::vector<
     return j.dump(2) + "\n";
 }
 
+// K_d between consecutive Ed probes of one vertical run (in the order of `probes`: a vertical `line`
+// entry gives one), K_d = ln(Ed_upper / Ed_lower) / (z_upper - z_lower); its standard error from the
+// two probes' (independent samples) as sqrt((se_u / Ed_u)^2 + (se_l / Ed_l)^2) / dz. Pairs where
+// either Ed is not positive are left out.
+std::string kdCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands) {
+    std::vector<const ProbeValue*> ed;
+    for (const ProbeValue& v : values)
+        if (v.quantity == "Ed") ed.push_back(&v);
+    std::string s;
+    for (size_t i = 0; i + 1 < ed.size(); ++i) {
+        const ProbeValue& u = *ed[i];
+        const ProbeValue& l = *ed[i + 1];
+        const double dz = u.position.z - l.position.z;
+        if (std::abs(u.position.x - l.position.x) > 1e-9 || std::abs(u.position.y - l.position.y) > 1e-9 || !(dz > 0))
+            continue;
+        for (size_t b = 0; b < bands.size(); ++b) {
+            if (!(u.mean[b] > 0 && l.mean[b] > 0)) continue;
+            const double kd = std::log(u.mean[b] / l.mean[b]) / dz;
+            const double ru = u.stderr_[b] / u.mean[b], rl = l.stderr_[b] / l.mean[b];
+            s += fmt::format("{},{},{:.9g},{:.9g},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", u.probe, l.probe, u.position.x,
+                             u.position.y, u.position.z, l.position.z, bands[b].lo, bands[b].hi, kd,
+                             std::sqrt(ru * ru + rl * rl) / dz);
+        }
+    }
+    if (s.empty()) return "";
+    return "upper_probe,lower_probe,x_m,y_m,z_upper_m,z_lower_m,band_lo_um,band_hi_um,kd_per_m,kd_stderr_per_m\n" + s;
+}
+
 }  // namespace littoral::render

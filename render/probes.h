@@ -58,5 +58,8 @@ void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry);
 // CSV (one row per probe, quantity and band) and JSON renderings of probe results.
 std::string probesCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands);
 std::string probesJson(const std::vector<ProbeValue>& values, const std::vector<Band>& bands);
+// The diffuse attenuation K_d between consecutive Ed probes that lie one below the other (a
+// vertical profile); "" if there are none. docs/outputs.md, "Probes".
+std::string kdCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands);
 
 }  // namespace littoral::render

@@ -218,7 +218,13 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
             ir.render.responseBands.empty() ? scene.bands() : nominalBands(ir.render.responseBands);
         writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, bands));
         writeTextFileAtomic(outDir / files[1], probesJson(res.probes, bands));
-        for (const std::string& f : files) res.written.push_back(outDir / f);
+        const std::string kd = kdCsv(res.probes, bands);
+        std::error_code ec;
+        if (!kd.empty()) writeTextFileAtomic(outDir / files[2], kd);
+        else if (std::filesystem::remove(outDir / files[2], ec))
+            log::info("removed {}, K_d profiles of an earlier run that this one does not write", (outDir / files[2]).string());
+        for (const std::string& f : files)
+            if (std::filesystem::exists(outDir / f)) res.written.push_back(outDir / f);
     }
 }
 

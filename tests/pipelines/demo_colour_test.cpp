@@ -9,6 +9,7 @@
 // about exp(-2.1 x 0.1 x 2.5) = 0.6. The medians over thousands of pixels hide the glints and the
 // photon-map noise; the test asks only for the order (red falls most), with a margin of 1.5x.
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -73,6 +74,8 @@ TEST(DemoColour, DeeperWaterIsDarkerInRedThanInBlueGreen) {
     ASSERT_GT(deep[0].size(), 1000u);
     double ratio[3];
     for (int b = 0; b < 3; ++b) ratio[b] = median(deep[b]) / median(shallow[b]);
+    std::printf("deep / shallow medians: blue %.3f, green %.3f, red %.3f (%zu and %zu pixels)\n", ratio[0], ratio[1],
+                ratio[2], shallow[0].size(), deep[0].size());
     // Bands in order of wavelength: 0.4-0.5 (blue), 0.5-0.6 (green), 0.6-0.7 um (red).
     EXPECT_LT(1.5 * ratio[2], ratio[1]) << ratio[0] << " " << ratio[1] << " " << ratio[2];
     EXPECT_LT(1.5 * ratio[2], ratio[0]) << ratio[0] << " " << ratio[1] << " " << ratio[2];

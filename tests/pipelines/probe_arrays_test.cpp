@@ -94,6 +94,25 @@ TEST(ProbeArrays, ProfileAndGridReadBeerLambertAtTheirPositions) {
     EXPECT_EQ(rows.at("g_0_0"), (std::vector<double>{-2, -1, -1}));
     EXPECT_EQ(rows.at("g_1_1"), (std::vector<double>{0, 1, -1}));
     EXPECT_EQ(rows.at("g_2_0"), (std::vector<double>{2, -1, -1}));
+
+    // The vertical profile gives K_d between its consecutive probes (kd.csv): for the direct beam
+    // alone, K_d = c / cos(theta_w) = 0.388 / sqrt(1 - (0.5 / 1.34)^2) = 0.41821 m^-1 at every depth,
+    // within 4 of each pair's standard errors. The grid's probes lie side by side and give none.
+    std::ifstream kd(dir / "out" / "kd.csv");
+    ASSERT_TRUE(std::getline(kd, line));
+    ASSERT_EQ(line, "upper_probe,lower_probe,x_m,y_m,z_upper_m,z_lower_m,band_lo_um,band_hi_um,kd_per_m,kd_stderr_per_m");
+    const double kdExpected = 0.388 / std::sqrt(1 - (0.5 / 1.34) * (0.5 / 1.34));
+    EXPECT_NEAR(kdExpected, 0.41821, 1e-5);
+    int pairs = 0;
+    while (std::getline(kd, line)) {
+        const auto c = splitCsv(line);
+        ASSERT_EQ(c.size(), 10u) << line;
+        EXPECT_EQ(c[0], "prof_" + std::to_string(pairs)) << line;
+        EXPECT_EQ(c[1], "prof_" + std::to_string(pairs + 1)) << line;
+        EXPECT_NEAR(std::stod(c[8]), kdExpected, 4 * std::stod(c[9]) + 1e-9) << line;
+        ++pairs;
+    }
+    EXPECT_EQ(pairs, 4);
 }
 
 // A transect 0.3 m under the mean level crosses troughs 0.4 m deep: some of its probes are in
