@@ -24,7 +24,7 @@ run() {  # name, sed expression applied to the scene file
 }
 rect=$(run rect 's/^  bands: .*/  bands: {range_um: [0.4, 0.7], count: 3}/')
 gauss=$(run gaussian 's/^  bands: .*/  bands: [{centre_um: 0.47, fwhm_um: 0.03}, {centre_um: 0.56, fwhm_um: 0.03}, {centre_um: 0.65, fwhm_um: 0.02}]/')
-prod=$(run products 's/^     target: \[0, 0, 0\], width: 450, height: 300}/     target: [0, 0, 0], width: 450, height: 300, psf: {type: gaussian, fwhm_px: 1.5},\n     detector: {aperture_mm: 10, integration_ms: 1, quantum_efficiency: 0.6, read_noise_e: 20, full_well_e: 100000, bits: 12}}/')
+prod=$(run products 's/^     target: \[0, 0, 0\], width: 450, height: 300}/     target: [0, 0, 0], width: 450, height: 300, psf: {type: gaussian, fwhm_px: 1.5},\n     detector: {aperture_mm: 5, integration_ms: 1, quantum_efficiency: 0.6, read_noise_e: 20, full_well_e: 100000, bits: 12}}/')
 grep -q "psf:" "$out/products/site/scene.yaml"
 printf "rect bands          %6.1f s  1\n" "$rect"
 awk -v r="$rect" -v g="$gauss" -v p="$prod" 'BEGIN {
