@@ -289,6 +289,25 @@ const std::vector<IrCase>& irCases() {
                                             {"translation_m", {1e30, 0, 0}}}});
          },
          "instances[0] (mesh 'water', placed): vertex 0 at (1e+30"},
+        {"psf_negative", "a sensor's PSF kernel with a negative value",
+         [](Json& j) {
+             j["sensors"][0]["psf"] = {{"type", "kernel"}, {"width", 3}, {"height", 1}, {"values", {1, -1, 1}}};
+         },
+         "sensors[0].psf.values[1]: a PSF value must be finite and >= 0"},
+        {"detector_qe", "a sensor's detector with `quantum_efficiency: 2`",
+         [](Json& j) {
+             j["sensors"][0]["detector"] = {{"aperture_diameter_m", 0.01}, {"integration_time_s", 0.001},
+                                            {"quantum_efficiency", 2},      {"read_noise_e", 10},
+                                            {"full_well_e", 1e5},           {"bits", 12},
+                                            {"seed", 1}};
+         },
+         "sensors[0].detector.quantum_efficiency: 2 is out of range; allowed [1e-06, 1]"},
+        {"response_weights", "a response band whose weights sum to 0.5 (it would scale the radiance)",
+         [](Json& j) {
+             j["render"]["response_bands"] = Json::array(
+                 {{{"kind", "gaussian"}, {"nominal_um", {0.45, 0.55}}, {"weights", Json::array({Json::array({0, 0.5})})}}});
+         },
+         "render.response_bands[0].weights: the weights sum to 0.5, not 1"},
         {"nothing_to_render", "`sensors: []` and `probes: []`",
          [](Json& j) {
              j["sensors"] = Json::array();
