@@ -3,6 +3,7 @@
 // images per sensor and probes.csv/probes.json (see render/render_job.h). Bad input (unknown
 // sensor, camera inside an opaque object, empty view, zero image size, a band outside a
 // spectrum's table ...) exits with status 1 and writes nothing.
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -42,10 +43,12 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
         jo.preview = o->preview;
         jo.progress = !littoral::globalOptions().quiet;
         littoral::Progress::setEnabled(jo.progress);
+        const auto t0 = std::chrono::steady_clock::now();
         const auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);
         for (const auto& p : res.written) littoral::log::info("wrote {}", p.string());
-        std::printf("rendered %zu sensor(s), %zu probe value(s) into %s\n", res.images.size(), res.probes.size(),
-                    o->outDir.c_str());
+        std::printf("rendered %zu sensor(s), %zu probe value(s) into %s (%.1f s%s)\n", res.images.size(), res.probes.size(),
+                    o->outDir.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                    littoral::pipelines::resourceSummary().c_str());
     });
 }};
 

@@ -1,5 +1,7 @@
 #include "pipelines/lib_scene.h"
 
+#include <sys/resource.h>
+
 #include <chrono>
 
 #include <stdlib.h>
@@ -8,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "render/estimator.h"
 #include "render/render_job.h"
 #include "scenegen/assemble.h"
@@ -148,6 +151,19 @@ void addPreviewOptions(CLI::App* cmd, render::PreviewOptions* preview) {
         ->capture_default_str();
 }
 
+std::string resourceSummary() {
+    auto millions = [](int64_t n) { return n == 0 ? std::string("0") : fmt::format("{:.3g} M", static_cast<double>(n) * 1e-6); };
+    std::string s;
+    const int64_t emitted = statCounter("photons emitted").value;
+    if (emitted > 0)  // a photon may leave a record at each of its diffuse or volume events
+        s += fmt::format(", {} photons emitted ({} surface + {} volume records stored)", millions(emitted),
+                         millions(statCounter("photons stored (surface)").value),
+                         millions(statCounter("photons stored (volume)").value));
+    struct rusage ru {};
+    if (getrusage(RUSAGE_SELF, &ru) == 0) s += fmt::format(", peak memory {} MiB", ru.ru_maxrss / 1024);  // KiB on Linux
+    return s;
+}
+
 std::string runScene(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
@@ -179,8 +195,8 @@ std::string runScene(const RunOptions& o) {
     const auto t2 = std::chrono::steady_clock::now();
     std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
                                 std::chrono::duration<double>(t1 - t0).count());
-    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s)\n", res.images.size(), res.probes.size(),
-                     out.string(), std::chrono::duration<double>(t2 - t1).count());
+    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s{})\n", res.images.size(), res.probes.size(),
+                     out.string(), std::chrono::duration<double>(t2 - t1).count(), resourceSummary());
     for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
     return s;
 }

@@ -607,6 +607,24 @@ TEST_F(Hostile, UnreadableInputsNameTheRealCause) {
 
 // What docs/scene-format.md calls optional is optional, and the ENVI header prints band widths as
 // the numbers they are.
+// Correct by default: the scene file's scattering water renders its in-scatter (medium-pm, written
+// into the IR); an IR whose scattering medium names no solver (hand-written, or edited) renders it
+// as loss and says so at run time, naming the medium and the two solvers.
+TEST_F(Hostile, ScatteringWaterWithoutASolverIsWarnedAbout) {
+    editBuiltIr("      ],\n      \"solver\": \"medium-pm\"\n", "      ]\n");
+    std::string json;
+    {
+        std::ifstream f(dir_ / "ir" / "scene.json");
+        json.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    ASSERT_FALSE(contains(json, "\"solver\": \"medium-pm\"")) << json.substr(0, 4000);
+    const CommandResult r = runLittoral("render " + q(dir_ / "ir") + " --out " + q(out_));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "warning: medium 'water' scatters but names no solver: the dirsig estimator counts "
+                                   "its scattering as loss"))
+        << r.output;
+}
+
 TEST_F(Hostile, DocumentedDefaultsAreDefaults) {
     // No sky, and water without a surface (a flat surface over the domain).
     std::string scene = replaced(kScene, "sky: {radiance: 0}\n", "");

@@ -64,6 +64,8 @@ TEST(SensorModelCli, PsfAndDetectorWriteTheirImagesBesideTheRadiance) {
     text << js.rdbuf();
     EXPECT_NE(text.str().find("\"snr\""), std::string::npos) << text.str();
     EXPECT_NE(r.output.find("sensor 'cam' band [0.4, 0.6] um: mean signal"), std::string::npos) << r.output;
+    // The run ends with its time and peak memory.
+    EXPECT_NE(r.output.find(" s, peak memory "), std::string::npos) << r.output;
 }
 
 TEST(SensorModelCli, BadKernelsAndDetectorsAreLocatedErrors) {
