@@ -76,7 +76,8 @@ void checkOutputName(std::string_view name, std::string_view what, const SourceL
 std::vector<std::string> sensorOutputFiles(std::string_view sensor) {
     const std::string s(sensor);
     return {s + ".exr", s + ".img", s + ".hdr", s + ".png", s + "_truth.exr", s + "_material.png", s + "_rgb.png",
-            s + "_legend.csv", s + "_psf.exr", s + "_noisy.exr", s + "_detector.json"};
+            s + "_legend.csv", s + "_psf.exr", s + "_noisy.exr", s + "_detector.json",
+            s + "_geo.img", s + "_geo.hdr"};
 }
 
 std::vector<std::string> probeOutputFiles() { return {"probes.csv", "probes.json", "kd.csv"}; }

@@ -208,6 +208,12 @@ std::string toJsonText(const SceneIR& s) {
                 {"half_angle_rad", s.sun.halfAngle},
                 {"irradiance", spectrumJson(s.sun.irradiance)}};
     j["sky"] = {{"radiance", spectrumJson(s.sky.radiance)}};
+    if (s.geo)
+        j["geo"] = {{"frame", s.geo->frame},
+                    {"latitude_deg", s.geo->latitudeDeg},
+                    {"longitude_deg", s.geo->longitudeDeg},
+                    {"altitude_m", s.geo->altitudeM},
+                    {"utm_zone", s.geo->utmZone}};
 
     Json media = Json::array();
     for (const auto& m : s.media) media.push_back(mediumJson(m));
@@ -750,7 +756,7 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     }
     JReader r(j, "", file);
     r.expectKeys({"format", "version", "name", "metadata", "render", "domain", "sun", "sky", "media", "materials",
-                  "meshes", "instances", "sensors", "probes"});
+                  "meshes", "instances", "sensors", "probes", "geo"});
     if (r["format"].str() != "littoral-scene-ir") r["format"].fail("expected \"littoral-scene-ir\"");
     if (r["version"].integer() != kFormatVersion)
         r["version"].fail(fmt::format("this Littoral reads IR version {}", kFormatVersion));
@@ -763,6 +769,24 @@ SceneIR fromJsonText(const std::string& text, const std::string& file) {
     }
     readRender(r["render"], &s.render);
     readDomain(r["domain"], &s.domain);
+    if (r.has("geo")) {
+        const JReader g = r["geo"];
+        g.expectKeys({"frame", "latitude_deg", "longitude_deg", "altitude_m", "utm_zone"});
+        GeoReference geo;
+        geo.frame = g["frame"].str();
+        if (geo.frame != "local-cartesian" && geo.frame != "utm") g["frame"].fail("expected 'local-cartesian' or 'utm'");
+        geo.latitudeDeg = g["latitude_deg"].num();
+        geo.longitudeDeg = g["longitude_deg"].num();
+        geo.altitudeM = g["altitude_m"].num();
+        if (!(std::abs(geo.latitudeDeg) <= 90)) g["latitude_deg"].fail("expected a latitude in [-90, 90] deg");
+        if (!(std::abs(geo.longitudeDeg) <= 180)) g["longitude_deg"].fail("expected a longitude in [-180, 180] deg");
+        if (!(std::abs(geo.altitudeM) <= 1e5)) g["altitude_m"].fail("expected an altitude within 1e5 m");
+        const int64_t zone = g["utm_zone"].integer();
+        if (geo.frame == "utm" ? (zone < 1 || zone > 60) : zone != 0)
+            g["utm_zone"].fail(geo.frame == "utm" ? "expected a UTM zone in [1, 60]" : "expected 0 (not a UTM frame)");
+        geo.utmZone = static_cast<int>(zone);
+        s.geo = geo;
+    }
     readSunAndSky(r, &s);
     auto media = r["media"];
     for (size_t i = 0; i < media.size(); ++i) s.media.push_back(readMedium(media.at(i)));

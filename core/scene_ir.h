@@ -249,6 +249,15 @@ struct Domain {
     bool periodic = false;
 };
 
+// The scene's georeferencing (scene.origin; bathymetry/geo_frame.h): the local frame is an
+// east-north-up tangent plane about the origin ("local-cartesian") or UTM grid metres about it
+// ("utm", in utmZone, x = E - E0, y = N - N0).
+struct GeoReference {
+    std::string frame;  // local-cartesian | utm
+    double latitudeDeg = 0, longitudeDeg = 0, altitudeM = 0;
+    int utmZone = 0;  // utm: 1..60
+};
+
 struct SceneIR {
     std::string name = "scene";
     RenderSettings render;
@@ -260,6 +269,7 @@ struct SceneIR {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
     std::vector<Sensor> sensors;
+    std::optional<GeoReference> geo;  // set when the scene file gives scene.origin
     std::vector<Probe> probes;
     // Free-form provenance (generator, seed, wave statistics ...), written as strings.
     std::map<std::string, std::string> metadata;

@@ -12,6 +12,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "pipelines/command_registry.h"
+#include "pipelines/lib_geo_layers.h"
 #include "pipelines/lib_scene.h"
 #include "render/render_job.h"
 
@@ -44,7 +45,9 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
         jo.progress = !littoral::globalOptions().quiet;
         littoral::Progress::setEnabled(jo.progress);
         const auto t0 = std::chrono::steady_clock::now();
-        const auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);
+        auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);
+        for (const auto& p : littoral::pipelines::writeGeoLayers(littoral::ir::readIR(o->irDir), res, o->outDir))
+            res.written.push_back(p);
         for (const auto& p : res.written) littoral::log::info("wrote {}", p.string());
         std::printf("rendered %zu sensor(s), %zu probe value(s) into %s (%.1f s%s)\n", res.images.size(), res.probes.size(),
                     o->outDir.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),

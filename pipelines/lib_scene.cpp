@@ -1,4 +1,5 @@
 #include "pipelines/lib_scene.h"
+#include "pipelines/lib_geo_layers.h"
 
 #include <sys/resource.h>
 
@@ -189,6 +190,7 @@ std::string runScene(const RunOptions& o) {
     render::RenderJobResult res;
     try {
         res = render::runRenderJob(built.ir, irDir, out, jo);
+        for (const auto& p : writeGeoLayers(built.ir, res, out)) res.written.push_back(p);
     } catch (const InputError& e) {
         rethrowAtScene(e, spec, o.scene, false);
     }

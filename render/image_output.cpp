@@ -577,6 +577,45 @@ void writeTrueColourPng(const fs::path& path, const Film& film, const PreviewOpt
     writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
+void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::vector<std::string>& names,
+                     const std::vector<std::vector<double>>& layers, const std::string& description) {
+    const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+    LITTORAL_CHECK(width > 0 && height > 0 && names.size() == layers.size() && !names.empty());
+    std::string desc = description;
+    std::replace(desc.begin(), desc.end(), '{', '(');
+    std::replace(desc.begin(), desc.end(), '}', ')');
+    std::string hdr = "ENVI\ndescription = {" + desc + "}\n";
+    hdr += fmt::format("samples = {}\nlines = {}\nbands = {}\n", width, height, names.size());
+    // data type 5 = 64-bit IEEE float; byte order 0 = little endian.
+    hdr += "header offset = 0\nfile type = ENVI Standard\ndata type = 5\ninterleave = bsq\nbyte order = 0\n";
+    hdr += "band names = {" + joinCommas(names) + "}\n";
+    std::string data;
+    data.reserve(n * names.size() * sizeof(double));
+    for (const std::vector<double>& layer : layers) {
+        LITTORAL_CHECK_EQ(layer.size(), n);
+        for (double v : layer) {
+            uint64_t u;
+            std::memcpy(&u, &v, 8);
+            if constexpr (std::endian::native == std::endian::big) u = __builtin_bswap64(u);
+            data.append(reinterpret_cast<const char*>(&u), 8);
+        }
+    }
+    AtomicOutput imgOut(imgPath);
+    AtomicOutput hdrOut(enviHeaderPath(imgPath));
+    imgOut.write(data);
+    hdrOut.write(hdr);
+    imgOut.commit();
+    try {
+        hdrOut.commit();
+    } catch (...) {
+        if (!OutputSet::active()) {
+            std::error_code ec;
+            fs::remove(imgPath, ec);
+        }
+        throw;
+    }
+}
+
 // ---- Truth images -----------------------------------------------------------------------------
 
 namespace {

@@ -141,6 +141,12 @@ std::vector<float> gaussianBlur(const std::vector<float>& plane, int width, int 
 // Every band of a film, in linear radiance (use this for a physical sensor PSF before writing EXR).
 Film gaussianBlur(const Film& film, double sigma);
 
+// An ENVI float64 BSQ image of named layers (each width x height, row-major): `imgPath` and its
+// header, with `band names` and `description`; float64 so that latitudes and longitudes keep
+// millimetres (float32 holds only about 0.4 m of a latitude). Written like writeEnvi.
+void writeEnviLayers(const std::filesystem::path& imgPath, int width, int height, const std::vector<std::string>& names,
+                     const std::vector<std::vector<double>>& layers, const std::string& description);
+
 // ---- Truth images -----------------------------------------------------------------------------
 
 // EXR with float32 channels "materialId" (exact for ids below 2^24), "range" (m) and "hitDepth"

@@ -52,6 +52,7 @@ PsfKernel psfKernel(const ir::SensorPsf& psf) {
         k.values.assign(static_cast<size_t>(n) * n, 0.0);
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) k.values[static_cast<size_t>(y) * n + x] = g[y] * g[x];
+        k.separable = g;
     } else {
         LITTORAL_CHECK(psf.type == "kernel");
         k.width = psf.width;
@@ -65,7 +66,45 @@ PsfKernel psfKernel(const ir::SensorPsf& psf) {
     return k;
 }
 
+namespace {
+
+// One flux-conserving 1-D pass of `g` (odd length, sum 1) along x (alongX) or y over every band:
+// each source pixel's value is spread over the taps inside the image, renormalised by their share.
+// For a separable kernel the 2-D share inside is the product of the two 1-D shares, so two passes
+// give exactly the 2-D scatter at a cost of (2 r + 1) instead of (2 r + 1)^2 per pixel.
+std::vector<double> scatter1d(const std::vector<double>& in, int width, int height, size_t nb,
+                              const std::vector<double>& g, bool alongX) {
+    const int r = static_cast<int>(g.size()) / 2, n = alongX ? width : height;
+    std::vector<double> out(in.size(), 0.0);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const int c = alongX ? x : y;
+            double inside = 0;
+            for (int i = std::max(-r, -c); i <= std::min(r, n - 1 - c); ++i) inside += g[static_cast<size_t>(i + r)];
+            const size_t src = (static_cast<size_t>(y) * width + x) * nb;
+            for (int i = std::max(-r, -c); i <= std::min(r, n - 1 - c); ++i) {
+                const double w = g[static_cast<size_t>(i + r)] / inside;
+                const size_t dst = alongX ? src + static_cast<size_t>(i) * nb
+                                          : src + static_cast<size_t>(i) * static_cast<size_t>(width) * nb;
+                for (size_t b = 0; b < nb; ++b) out[dst + b] += w * in[src + b];
+            }
+        }
+    return out;
+}
+
+}  // namespace
+
 Film applyPsf(const Film& film, const PsfKernel& k) {
+    if (!k.separable.empty()) {
+        std::vector<double> v(film.pixels.size());
+        for (size_t p = 0; p < v.size(); ++p) v[p] = std::isfinite(film.pixels[p]) ? film.pixels[p] : 0.0;
+        const size_t nb = film.bands.size();
+        v = scatter1d(scatter1d(v, film.width, film.height, nb, k.separable, true), film.width, film.height, nb,
+                      k.separable, false);
+        Film out(film.width, film.height, film.bands);
+        for (size_t p = 0; p < v.size(); ++p) out.pixels[p] = static_cast<float>(v[p]);
+        return out;
+    }
     Film out(film.width, film.height, film.bands);
     const int rx = k.width / 2, ry = k.height / 2;
     const size_t nb = film.bands.size();

@@ -40,6 +40,7 @@ double gaussianSigmaFromFwhm(double fwhmPx);
 struct PsfKernel {
     int width = 1, height = 1;
     std::vector<double> values{1.0};
+    std::vector<double> separable;  // a Gaussian's 1-D factor (values = its outer product): two 1-D passes
 };
 PsfKernel psfKernel(const ir::SensorPsf& psf);
 

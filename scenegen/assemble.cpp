@@ -374,6 +374,8 @@ void Assembly::addGeoFrame() {
     frame_ = geometry_.bathy.utmFrame ? bathymetry::GeoFrame::utm(o.latitude, o.longitude, o.altitude)
                                       : bathymetry::GeoFrame::localCartesian(o.latitude, o.longitude, o.altitude);
     ir_.metadata["geo_frame"] = frame_->describe();
+    const bool utm = frame_->kind() == bathymetry::GeoFrame::Kind::Utm;
+    ir_.geo = ir::GeoReference{utm ? "utm" : "local-cartesian", o.latitude, o.longitude, o.altitude, utm ? frame_->zone() : 0};
 }
 
 // The ground's material slots: the classified material of texture_classes, or bathymetry.material.

@@ -46,6 +46,19 @@ TEST(SensorModel, GaussianPsfOfAPointSourceIsTheKernel) {
     EXPECT_EQ(peak, out.at(20, 20, 0));
 }
 
+// A Gaussian is applied as two flux-conserving 1-D passes: the 2-D share of the kernel inside the
+// image is the product of the 1-D shares, so the result is the 2-D scatter's, corners included.
+TEST(SensorModel, SeparableGaussianEqualsTheTwoDimensionalScatter) {
+    PsfKernel g = psfKernel({"gaussian", 4.0, 0, 0, {}});
+    ASSERT_FALSE(g.separable.empty());
+    PsfKernel full = g;
+    full.separable.clear();
+    Film f(19, 13, {Band{0.4, 0.5}, Band{0.5, 0.6}});
+    for (size_t p = 0; p < f.pixels.size(); ++p) f.pixels[p] = static_cast<float>((p * 37) % 101);
+    const Film a = applyPsf(f, g), b = applyPsf(f, full);
+    for (size_t p = 0; p < a.pixels.size(); ++p) EXPECT_NEAR(a.pixels[p], b.pixels[p], 1e-4) << p;
+}
+
 TEST(SensorModel, TabulatedKernelIsNormalisedAndCentred) {
     const ir::SensorPsf psf{"kernel", 0, 3, 1, {1, 2, 1}};
     const Film out = applyPsf(pointSource(9, 3, 4, 1, 8.0f), psfKernel(psf));
