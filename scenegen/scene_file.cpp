@@ -26,10 +26,11 @@ namespace littoral::scenegen {
 
 namespace fs = std::filesystem;
 
-Spectrum parseSpectrumCsv(std::string_view text, const std::string& file, double min, double max,
-                          std::string_view unit) {
+// The data lines of a small CSV table (UTF-8 checked; a CRLF line end and a byte-order mark are
+// dropped; blank lines and lines starting with '#' skipped), commas replaced by blanks:
+// row(lineNo, line) for each.
+template <class Row> void forEachCsvLine(std::string_view text, const std::string& file, Row&& row) {
     requireUtf8(text, file);
-    std::vector<double> wl, val;
     size_t pos = 0;
     int lineNo = 0;
     while (pos < text.size()) {
@@ -42,11 +43,38 @@ Spectrum parseSpectrumCsv(std::string_view text, const std::string& file, double
         const size_t first = line.find_first_not_of(" \t");
         if (first == std::string::npos || line[first] == '#') continue;
         std::replace(line.begin(), line.end(), ',', ' ');
+        row(lineNo, line);
+    }
+}
+
+// A file named at the scene-file key `f`, parsed by parse(text, path): an unreadable file is an
+// error at the key; a parse error located in the file (line > 0) stays there, any other is put at
+// the key with the file's name.
+template <class Parse> auto parseFileAtKey(const YamlNode& f, Parse&& parse) {
+    const fs::path p = f.asExistingPath();
+    std::string text;
+    try {
+        text = readTextFile(p);
+    } catch (const InputError& e) {
+        f.fail(fmt::format("cannot read '{}': {}", p.string(), e.message()));
+    }
+    try {
+        return parse(text, p.string());
+    } catch (const InputError& e) {
+        if (e.where().line > 0) throw;  // located in the file
+        f.fail(fmt::format("{}: {}", p.string(), e.message()));
+    }
+}
+
+Spectrum parseSpectrumCsv(std::string_view text, const std::string& file, double min, double max,
+                          std::string_view unit) {
+    std::vector<double> wl, val;
+    forEachCsvLine(text, file, [&](int lineNo, const std::string& line) {
         std::istringstream ls(line);
         double w, v;
         std::string rest;
         if (!(ls >> w >> v) || (ls >> rest)) {
-            if (wl.empty() && lineNo == 1) continue;  // header row
+            if (wl.empty() && lineNo == 1) return;  // header row
             throw InputError(SourceLoc{file, lineNo, 1}, "expected 'wavelength_um, value' (two numbers)");
         }
         if (!std::isfinite(w) || !(w >= 0.2 && w <= 20.0))
@@ -57,7 +85,7 @@ Spectrum parseSpectrumCsv(std::string_view text, const std::string& file, double
                              fmt::format("value {} is out of range; allowed [{}, {}] {}", v, min, max, unit));
         wl.push_back(w);
         val.push_back(v);
-    }
+    });
     if (wl.empty())
         throw InputError(SourceLoc{file}, "the file holds no 'wavelength_um, value' rows (it is empty, or only a "
                                           "header and comments)");
@@ -72,19 +100,9 @@ Spectrum parseSpectrum(const YamlNode& n, double min, double max, std::string_vi
     std::vector<double> wl, val;
     if (auto f = n.optional("file")) {
         if (n.has("wavelengths_um") || n.has("values")) n.fail("give either 'file' or 'wavelengths_um' + 'values', not both");
-        const fs::path p = f->asExistingPath();
-        std::string text;
-        try {
-            text = readTextFile(p);
-        } catch (const InputError& e) {
-            f->fail(fmt::format("cannot read '{}': {}", p.string(), e.message()));
-        }
-        try {
-            return parseSpectrumCsv(text, p.string(), min, max, unit);
-        } catch (const InputError& e) {
-            if (e.where().line > 0) throw;  // located in the CSV file
-            f->fail(fmt::format("{}: {}", p.string(), e.message()));
-        }
+        return parseFileAtKey(*f, [&](const std::string& text, const std::string& path) {
+            return parseSpectrumCsv(text, path, min, max, unit);
+        });
     }
     wl = n["wavelengths_um"].asDoubleList(0.2, 20.0, "um");
     val = n["values"].asDoubleList(min, max, unit);
@@ -219,18 +237,10 @@ ResponseSpec parseResponseBand(const YamlNode& n) {
 // A PSF kernel file: rows of non-negative numbers separated by commas or blanks, '#' comments;
 // every row as long as the first, odd width and height up to ir::kMaxPsfSide.
 ir::SensorPsf parsePsfKernelCsv(std::string_view text, const std::string& file) {
-    requireUtf8(text, file);
     ir::SensorPsf psf;
     psf.type = "kernel";
-    int lineNo = 0;
-    size_t pos = 0;
-    while (pos <= text.size()) {
-        const size_t end = std::min(text.find('\n', pos), text.size());
-        std::string line(text.substr(pos, end - pos));
-        pos = end + 1;
-        ++lineNo;
-        if (const size_t h = line.find('#'); h != std::string::npos) line.resize(h);
-        std::replace(line.begin(), line.end(), ',', ' ');
+    forEachCsvLine(text, file, [&](int lineNo, std::string line) {
+        if (const size_t h = line.find('#'); h != std::string::npos) line.resize(h);  // a trailing comment
         std::istringstream in(line);
         std::vector<double> row;
         std::string tok;
@@ -242,7 +252,7 @@ ir::SensorPsf parsePsfKernelCsv(std::string_view text, const std::string& file) 
                                  fmt::format("PSF value '{}' is not a finite number >= 0", printableName(tok)));
             row.push_back(v);
         }
-        if (row.empty()) continue;
+        if (row.empty()) return;
         if (psf.width == 0) psf.width = static_cast<int>(row.size());
         if (static_cast<int>(row.size()) != psf.width)
             throw InputError(SourceLoc{file, lineNo, 1}, fmt::format("this row has {} values, the first row {}; a "
@@ -251,7 +261,7 @@ ir::SensorPsf parsePsfKernelCsv(std::string_view text, const std::string& file) 
             throw InputError(SourceLoc{file, lineNo, 1}, fmt::format("a PSF kernel is at most {} x {} values",
                                                                      ir::kMaxPsfSide, ir::kMaxPsfSide));
         psf.values.insert(psf.values.end(), row.begin(), row.end());
-    }
+    });
     if (psf.width == 0) throw InputError(SourceLoc{file}, "the file holds no kernel rows");
     if (psf.width % 2 == 0 || psf.height % 2 == 0)
         throw InputError(SourceLoc{file}, fmt::format("the kernel is {} x {}; its width and height must be odd (its "
@@ -273,20 +283,7 @@ ir::SensorPsf parseSensorPsf(const YamlNode& n) {
         return psf;
     }
     n.expectKeys({"type", "file"});
-    const YamlNode f = n["file"];
-    const fs::path p = f.asExistingPath();
-    std::string text;
-    try {
-        text = readTextFile(p);
-    } catch (const InputError& e) {
-        f.fail(fmt::format("cannot read '{}': {}", p.string(), e.message()));
-    }
-    try {
-        return parsePsfKernelCsv(text, p.string());
-    } catch (const InputError& e) {
-        if (e.where().line > 0) throw;  // located in the kernel file
-        f.fail(fmt::format("{}: {}", p.string(), e.message()));
-    }
+    return parseFileAtKey(n["file"], parsePsfKernelCsv);
 }
 
 // `detector:` in the units of a data sheet (mm, ms, electrons, bits).
