@@ -222,12 +222,35 @@ fs::path enviHeaderPath(const fs::path& imgPath) {
     return h;
 }
 
+namespace {
+// An ENVI data file and its header, through atomic temporaries. Both temporaries are complete
+// before either is renamed; the data goes first so that a header never names missing data. If the
+// header cannot be renamed, the data just committed is removed: a .img without its .hdr (or beside
+// an older, mismatched .hdr) is worse than no output. (Inside an OutputSet both are only staged
+// here, and the set publishes or removes them together.)
+void writeEnviPair(const fs::path& imgPath, std::string_view data, const std::string& hdr) {
+    AtomicOutput imgOut(imgPath);
+    AtomicOutput hdrOut(enviHeaderPath(imgPath));
+    imgOut.write(data);
+    hdrOut.write(hdr);
+    imgOut.commit();
+    try {
+        hdrOut.commit();
+    } catch (...) {
+        if (!OutputSet::active()) {
+            std::error_code ec;
+            fs::remove(imgPath, ec);
+        }
+        throw;
+    }
+}
+}  // namespace
+
 void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& description) {
     checkFilm(film, imgPath);
     if (imgPath.extension() == ".hdr" || imgPath.extension() == ".HDR")
         throw InputError(SourceLoc{imgPath.string()},
                          "ENVI image path must name the data file (e.g. radiance.img), not the .hdr header");
-    const fs::path hdrPath = enviHeaderPath(imgPath);
     const int nb = film.bandCount();
 
     // Header (ENVI Header Format, L3Harris "ENVI Header Files" reference): byte order 0 = little
@@ -266,24 +289,7 @@ void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& des
         }
     }
 
-    AtomicOutput imgOut(imgPath);
-    AtomicOutput hdrOut(hdrPath);
-    imgOut.write(std::string_view(reinterpret_cast<const char*>(bsq.data()), bsq.size() * sizeof(float)));
-    hdrOut.write(hdr);
-    // Both temporaries are complete; rename the data first so a header never names missing data.
-    // If the header cannot be renamed, remove the data just committed: a .img without its .hdr
-    // (or beside an older, mismatched .hdr) is worse than no output. (Inside an OutputSet both are
-    // only staged here, and the set publishes or removes them together.)
-    imgOut.commit();
-    try {
-        hdrOut.commit();
-    } catch (...) {
-        if (!OutputSet::active()) {
-            std::error_code ec;
-            fs::remove(imgPath, ec);
-        }
-        throw;
-    }
+    writeEnviPair(imgPath, std::string_view(reinterpret_cast<const char*>(bsq.data()), bsq.size() * sizeof(float)), hdr);
 }
 
 const std::string& EnviHeader::get(const std::string& key) const {
@@ -600,20 +606,7 @@ void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::
             data.append(reinterpret_cast<const char*>(&u), 8);
         }
     }
-    AtomicOutput imgOut(imgPath);
-    AtomicOutput hdrOut(enviHeaderPath(imgPath));
-    imgOut.write(data);
-    hdrOut.write(hdr);
-    imgOut.commit();
-    try {
-        hdrOut.commit();
-    } catch (...) {
-        if (!OutputSet::active()) {
-            std::error_code ec;
-            fs::remove(imgPath, ec);
-        }
-        throw;
-    }
+    writeEnviPair(imgPath, data, hdr);
 }
 
 // ---- Truth images -----------------------------------------------------------------------------
