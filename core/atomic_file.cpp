@@ -144,6 +144,13 @@ void checkOutputTarget(const fs::path& target) {
                                      it->second));
 }
 
+bool removeStaleOutput(const fs::path& target, std::string_view what) {
+    std::error_code ec;
+    if (!fs::remove(target, ec)) return false;
+    log::info("removed {}, {} of an earlier run that this one does not write", target.string(), what);
+    return true;
+}
+
 void createOutputFolder(const fs::path& dirIn, std::string_view option) {
     const fs::path dir = dirIn.empty() ? fs::path(".") : dirIn;
     const std::string prefix = option.empty() ? std::string() : std::string(option) + ": ";

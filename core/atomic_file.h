@@ -27,6 +27,12 @@ namespace littoral {
 // its own inputs (scene files, meshes, rasters, textures, class maps, spectra, IRs).
 void checkOutputTarget(const std::filesystem::path& target);
 
+// An output this run does not write (an optional one: a true-colour preview, a detector image,
+// K_d profiles, georeferencing layers) left in the output folder by an earlier run would sit beside
+// outputs it does not belong to: removed if present, with a note naming it and `what` it is.
+// Returns whether a file was removed.
+bool removeStaleOutput(const std::filesystem::path& target, std::string_view what);
+
 // Records `path` (if it is a regular file) as an input of this process, by device and inode, so
 // that checkOutputTarget refuses to replace it under any name. requireRegularInputFile (and so
 // readTextFile) calls it; readers that open files another way call it themselves.

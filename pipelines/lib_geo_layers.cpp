@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "bathymetry/geo_frame.h"
-#include "core/log.h"
+#include "core/atomic_file.h"
 #include "core/units.h"
 #include "render/camera.h"
 #include "render/image_output.h"
@@ -31,12 +31,9 @@ std::vector<std::filesystem::path> writeGeoLayers(const ir::SceneIR& ir, const r
     std::vector<std::filesystem::path> written;
     for (const render::SensorImage& img : res.images) {
         const std::filesystem::path path = outDir / (img.sensor + "_geo.img");
-        if (!ir.geo) {
-            std::error_code ec;
+        if (!ir.geo) {  // this scene has no scene.origin
             for (const std::filesystem::path& p : {path, render::enviHeaderPath(path)})
-                if (std::filesystem::remove(p, ec))
-                    log::info("removed {}, georeferencing layers of an earlier run (this scene has no scene.origin)",
-                              p.string());
+                removeStaleOutput(p, "georeferencing layers");
             continue;
         }
         const ir::GeoReference& g = *ir.geo;

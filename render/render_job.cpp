@@ -149,10 +149,8 @@ void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, cons
                           const std::vector<std::string>& files, const std::map<std::string, std::string>& meta,
                           const RenderJobOptions& opts) {
     auto optional = [&](size_t f, bool wanted, const char* what, auto&& write) {
-        std::error_code ec;
         if (wanted) write(outDir / files[f]);
-        else if (std::filesystem::remove(outDir / files[f], ec))
-            log::info("removed {}, {} of an earlier run that this one does not write", (outDir / files[f]).string(), what);
+        else removeStaleOutput(outDir / files[f], what);
     };
     optional(6, spansVisible(img.film.bands), "a true-colour preview",
              [&](const std::filesystem::path& p) { writeTrueColourPng(p, img.film, opts.preview); });
@@ -219,10 +217,8 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, bands));
         writeTextFileAtomic(outDir / files[1], probesJson(res.probes, bands));
         const std::string kd = kdCsv(res.probes, bands);
-        std::error_code ec;
         if (!kd.empty()) writeTextFileAtomic(outDir / files[2], kd);
-        else if (std::filesystem::remove(outDir / files[2], ec))
-            log::info("removed {}, K_d profiles of an earlier run that this one does not write", (outDir / files[2]).string());
+        else removeStaleOutput(outDir / files[2], "K_d profiles");
         for (const std::string& f : files)
             if (std::filesystem::exists(outDir / f)) res.written.push_back(outDir / f);
     }
