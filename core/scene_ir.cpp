@@ -172,18 +172,7 @@ Json sensorJson(const Sensor& c) {
     return cj;
 }
 
-}  // namespace
-
-std::string toJsonText(const SceneIR& s) {
-    Json j;
-    j["format"] = "littoral-scene-ir";
-    j["version"] = kFormatVersion;
-    j["name"] = s.name;
-    Json meta = Json::object();
-    for (const auto& [k, v] : s.metadata) meta[k] = v;
-    j["metadata"] = meta;
-
-    const auto& r = s.render;
+Json renderJson(const RenderSettings& r) {
     Json bands = Json::array();
     for (const auto& b : r.bands) bands.push_back(Json::array({b.lo, b.hi}));
     Json rj = {{"bands_um", bands}, {"seed", r.seed}, {"threads", r.threads}, {"estimator", nm(r.estimator)}};
@@ -198,7 +187,21 @@ std::string toJsonText(const SceneIR& s) {
     }
     // Optional settings: written only when set (unset = the estimator's default), in the order set.
     for (const auto& [key, value] : r.settings) rj[key] = paramJson(value);
-    j["render"] = rj;
+    return rj;
+}
+
+}  // namespace
+
+std::string toJsonText(const SceneIR& s) {
+    Json j;
+    j["format"] = "littoral-scene-ir";
+    j["version"] = kFormatVersion;
+    j["name"] = s.name;
+    Json meta = Json::object();
+    for (const auto& [k, v] : s.metadata) meta[k] = v;
+    j["metadata"] = meta;
+
+    j["render"] = renderJson(s.render);
     j["domain"] = {{"x_m", Json::array({s.domain.x0, s.domain.x1})},
                    {"y_m", Json::array({s.domain.y0, s.domain.y1})},
                    {"horizontal", s.domain.periodic ? "periodic" : "bounded"}};
