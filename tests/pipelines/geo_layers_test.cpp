@@ -5,12 +5,11 @@
 // 2 m); the view and sun angles follow from the geometry.
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "core/atomic_file.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -32,8 +31,7 @@ std::string scene(bool origin) {
 }
 
 std::vector<double> readDoubles(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(f)), {});
+    const std::string bytes = littoral::readTextFile(p);
     std::vector<double> v(bytes.size() / 8);
     std::memcpy(v.data(), bytes.data(), v.size() * 8);
     return v;
@@ -46,11 +44,9 @@ TEST(GeoLayers, NadirPixelsLieWhereTheEllipsoidPutsThem) {
     const fs::path file = writeTextFile(dir, "scene.yaml", scene(true));
     const auto r = runLittoral("-q run " + file.string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.status, 0) << r.output;
-    std::ifstream h(dir / "out" / "cam_geo.hdr");
-    std::stringstream hdr;
-    hdr << h.rdbuf();
-    EXPECT_NE(hdr.str().find("data type = 5"), std::string::npos) << hdr.str();
-    EXPECT_NE(hdr.str().find("latitude_deg"), std::string::npos) << hdr.str();
+    const std::string hdr = littoral::readTextFile(dir / "out" / "cam_geo.hdr");
+    EXPECT_NE(hdr.find("data type = 5"), std::string::npos) << hdr;
+    EXPECT_NE(hdr.find("latitude_deg"), std::string::npos) << hdr;
     const std::vector<double> v = readDoubles(dir / "out" / "cam_geo.img");
     ASSERT_EQ(v.size(), 6u * 25u);
     auto at = [&](int layer, int x, int y) { return v[static_cast<size_t>(layer) * 25 + y * 5 + x]; };

@@ -1,13 +1,12 @@
 // The sensor model from a scene file: `psf` and `detector` on a sensor write NAME_psf.exr,
 // NAME_noisy.exr and NAME_detector.json beside the untouched radiance; bad kernels and misplaced
 // detectors are located errors from check-scene, build and run alike.
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "render/image_output.h"
+#include "core/atomic_file.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -59,10 +58,8 @@ TEST(SensorModelCli, PsfAndDetectorWriteTheirImagesBesideTheRadiance) {
     blurredMean /= blurred.pixels.size();
     EXPECT_NEAR(mean, blurredMean, 5 * std::sqrt(var / noisy.pixels.size()));
     EXPECT_GT(var, 0.0);
-    std::ifstream js(dir / "out" / "cam_detector.json");
-    std::stringstream text;
-    text << js.rdbuf();
-    EXPECT_NE(text.str().find("\"snr\""), std::string::npos) << text.str();
+    const std::string report = littoral::readTextFile(dir / "out" / "cam_detector.json");
+    EXPECT_NE(report.find("\"snr\""), std::string::npos) << report;
     EXPECT_NE(r.output.find("sensor 'cam' band [0.4, 0.6] um: mean signal"), std::string::npos) << r.output;
     // The run ends with its time and peak memory.
     EXPECT_NE(r.output.find(" s, peak memory "), std::string::npos) << r.output;

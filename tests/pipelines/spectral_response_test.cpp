@@ -6,14 +6,13 @@
 // no sampling noise, and its reflectance peaks inside the band so that a rectangle of the same
 // width reads 13 % differently: the test would see a wrong weighting.
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "render/image_output.h"
+#include "core/atomic_file.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -46,13 +45,6 @@ render::Film runBands(const std::string& name, const std::string& bands, const s
 
 double phi(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
-std::string readText(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
 }  // namespace
 
 TEST(SpectralResponse, GaussianBandIsTheResponseWeightedMeanOfAFineRender) {
@@ -74,8 +66,7 @@ TEST(SpectralResponse, GaussianBandIsTheResponseWeightedMeanOfAFineRender) {
     const double expected = sum / norm;
     EXPECT_NEAR(g.at(2, 2, 0), expected, 1e-3 * expected);
     EXPECT_GT(std::abs(rect.at(2, 2, 0) - expected), 0.05 * expected);  // a rectangle is not the same band
-    const std::string hdr =
-        readText(fs::path(LITTORAL_BINARY_DIR) / "test_scratch" / "spectral_response" / "gaussian" / "out" / "cam.hdr");
+    const std::string hdr = littoral::readTextFile(fs::path(LITTORAL_BINARY_DIR) / "test_scratch" / "spectral_response" / "gaussian" / "out" / "cam.hdr");
     EXPECT_NE(hdr.find("wavelength = {0.55}"), std::string::npos) << hdr;
     EXPECT_NE(hdr.find("fwhm = {0.04}"), std::string::npos) << hdr;
 }

@@ -2,13 +2,13 @@
 // interface as its first hit and the sand as the surface each pixel sees, and the legend names
 // both with the share of pixels of each. A view wider than the domain is warned about with the
 // fraction of its pixels that see past the edge.
-#include <fstream>
 #include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "render/image_output.h"
+#include "core/atomic_file.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -18,13 +18,6 @@ using littoral::testing_support::scratchDir;
 using littoral::testing_support::writeTextFile;
 
 namespace {
-
-std::string readText(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
 
 // The legend row of a material: "id,name,type,r,g,b,first,surface".
 std::vector<std::string> legendRow(const std::string& csv, const std::string& name) {
@@ -57,7 +50,7 @@ render: {hemisphere_samples: 4}
     const auto r = runLittoral("-q run " + scene.string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.status, 0) << r.output;
     const render::TruthImages t = render::readTruthExr(dir / "out" / "nadir_truth.exr");
-    const std::string legend = readText(dir / "out" / "nadir_legend.csv");
+    const std::string legend = littoral::readTextFile(dir / "out" / "nadir_legend.csv");
     const auto sand = legendRow(legend, "sand"), iface = legendRow(legend, "air-water-interface");
     ASSERT_FALSE(sand.empty()) << legend;
     ASSERT_FALSE(iface.empty()) << legend;
