@@ -308,6 +308,12 @@ const std::vector<IrCase>& irCases() {
                  {{{"kind", "gaussian"}, {"nominal_um", {0.45, 0.55}}, {"weights", Json::array({Json::array({0, 0.5})})}}});
          },
          "render.response_bands[0].weights: the weights sum to 0.5, not 1"},
+        {"geo_zone_61", "a UTM geo reference in zone 61",
+         [](Json& j) {
+             j["geo"] = {{"frame", "utm"}, {"latitude_deg", 36.2}, {"longitude_deg", -75.75}, {"altitude_m", 0},
+                         {"utm_zone", 61}};
+         },
+         "geo.utm_zone: expected a UTM zone in [1, 60]"},
         {"nothing_to_render", "`sensors: []` and `probes: []`",
          [](Json& j) {
              j["sensors"] = Json::array();
