@@ -77,7 +77,13 @@ std::vector<std::string> sensorOutputFiles(std::string_view sensor) {
     const std::string s(sensor);
     return {s + ".exr", s + ".img", s + ".hdr", s + ".png", s + "_truth.exr", s + "_material.png", s + "_rgb.png",
             s + "_legend.csv", s + "_psf.exr", s + "_noisy.exr", s + "_detector.json",
-            s + "_geo.img", s + "_geo.hdr"};
+            s + "_geo.img", s + "_geo.hdr",
+            // Water-leaving products (sensor water_products; render/water_products.cpp).
+            s + "_water_leaving.img", s + "_water_leaving.hdr", s + "_sky_reflected.img", s + "_sky_reflected.hdr",
+            s + "_glint.img", s + "_glint.hdr", s + "_other.img", s + "_other.hdr", s + "_ed0.img", s + "_ed0.hdr",
+            s + "_rrs.img", s + "_rrs.hdr",
+            // The radiance as a GeoTIFF (scenes with scene.origin; pipelines/lib_geotiff.cpp).
+            s + ".tif"};
 }
 
 std::vector<std::string> probeOutputFiles() { return {"probes.csv", "probes.json", "kd.csv"}; }

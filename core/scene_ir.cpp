@@ -169,6 +169,7 @@ Json sensorJson(const Sensor& c) {
                           {"quantum_efficiency", d.quantumEfficiency}, {"read_noise_e", d.readNoise},
                           {"full_well_e", d.fullWell}, {"bits", d.bits}, {"seed", d.seed}};
     }
+    if (c.waterProducts) cj["water_products"] = true;
     return cj;
 }
 
@@ -701,7 +702,7 @@ Sensor readSensor(const JReader& c, const SceneIR& s) {
     // refused.
     std::vector<std::string> keys = {"name", "type", "position_m", "forward", "up", "width", "height"};
     for (const std::string& k : sensorTypeKinds().allParamNames()) keys.push_back(k);
-    keys.insert(keys.end(), {"samples_per_pixel", "medium", "psf", "detector"});
+    keys.insert(keys.end(), {"samples_per_pixel", "medium", "psf", "detector", "water_products"});
     c.expectKeys(keys);
     Sensor se;
     se.name = c["name"].str();
@@ -728,6 +729,7 @@ Sensor readSensor(const JReader& c, const SceneIR& s) {
     if (!se.medium.empty() && !s.findMedium(se.medium)) c.fail("names medium '" + se.medium + "', which is not defined");
     if (c.has("psf")) se.psf = readSensorPsf(c["psf"]);
     if (c.has("detector")) se.detector = readSensorDetector(c["detector"]);
+    if (c.has("water_products")) se.waterProducts = c["water_products"].boolean();
     return se;
 }
 

@@ -196,6 +196,10 @@ struct Sensor {
     std::string medium;
     std::optional<SensorPsf> psf;
     std::optional<SensorDetector> detector;
+    // Water-leaving products (render/water_products.cpp): the radiance split by where the ray met
+    // the sea surface (water-leaving, sky-reflected, glint, other), Ed(0+) there and Rrs. Needs a
+    // sensor in the air and a scene with water.
+    bool waterProducts = false;
 };
 
 // A point radiometer. Quantities: "Ed", "Eu" (plane irradiances, down/up-welling),

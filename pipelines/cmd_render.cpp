@@ -43,6 +43,9 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
         jo.threads = o->threads;
         jo.preview = o->preview;
         jo.progress = !littoral::globalOptions().quiet;
+        jo.enviHeaderLines = [](const littoral::ir::SceneIR& ir, const littoral::ir::Sensor& s) {
+            return littoral::pipelines::enviGeoHeaderLines(ir, s);
+        };
         littoral::Progress::setEnabled(jo.progress);
         const auto t0 = std::chrono::steady_clock::now();
         auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);

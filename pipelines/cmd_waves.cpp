@@ -20,6 +20,7 @@
 #include "core/suggest.h"
 #include "core/units.h"
 #include "pipelines/command_registry.h"
+#include "pipelines/lib_waves.h"
 #include "surfaces/facetize.h"
 #include "surfaces/wave_report.h"
 #include "surfaces/wave_surface.h"
@@ -28,22 +29,8 @@ namespace {
 
 using littoral::InputError;
 namespace surf = littoral::surfaces;
-
-struct WavesOptions {
-    std::optional<double> wind;
-    std::optional<double> windFromDeg, wavesFromDeg;
-    std::optional<std::string> removedDirection;  // --direction: refused with an explanation
-    std::optional<std::string> sea;
-    std::string model = "beaufort";
-    double size = 300.0;
-    std::optional<double> sizeY;
-    double spacing = 0.25;
-    uint64_t seed = 500;
-    std::optional<long long> triangles;  // default: surfaces::defaultTriangles
-    std::string out;
-    std::string stats;
-    double fetch = 0.0, gamma = 3.3, amplitude = 0.5, wavelength = 2.0, phase = 0.0, time = 0.0, depth = 0.0;
-};
+using littoral::pipelines::WavesOptions;
+using littoral::pipelines::toParams;
 
 // The folder of an output file must exist (it is not created: a typo in a folder name should not
 // silently make a new tree) and hold nothing but a regular file at the name.
@@ -69,70 +56,6 @@ std::string lowerExtension(const std::filesystem::path& p) {
     std::string e = p.extension().string();
     for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return e;
-}
-
-surf::WaveParams toParams(const WavesOptions& o) {
-    surf::WaveParams p;
-    const auto model = surf::parseWaveModel(o.model);
-    if (!model) {
-        const std::string close = littoral::closestMatch(o.model, surf::waveModelNames());
-        throw InputError(fmt::format("--model: unknown model '{}'; allowed: {}{}", o.model,
-                                     littoral::joinList(surf::waveModelNames()),
-                                     close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
-    }
-    p.model = *model;
-    if (surf::isWindDriven(p.model) && !o.wind)
-        throw InputError(fmt::format("--wind: required for model {} (wind speed in m/s, > 0 and <= {})", o.model,
-                                     surf::WaveLimits::kMaxWind));
-    p.windSpeed = o.wind.value_or(0.0);
-    if (o.removedDirection)
-        throw InputError(fmt::format(
-            "--direction: this option was removed: it gave the direction the wind blew TOWARD, in degrees "
-            "counter-clockwise from east. Give {} instead: the compass direction the {} FROM, in degrees clockwise "
-            "from north, as in scene files (--direction D is {} (270 - D) mod 360)",
-            p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from",
-            p.model == surf::WaveModel::Sinusoid ? "waves come" : "wind comes",
-            p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from"));
-    if (p.model == surf::WaveModel::Sinusoid && o.windFromDeg)
-        throw InputError("--wind-from: the sinusoid has no wind; give the direction its waves come from with --waves-from");
-    if (p.model != surf::WaveModel::Sinusoid && o.wavesFromDeg)
-        throw InputError(fmt::format("--waves-from: applies to model sinusoid only; model {} takes --wind-from", o.model));
-    const double fromDeg = (p.model == surf::WaveModel::Sinusoid ? o.wavesFromDeg : o.windFromDeg).value_or(270.0);
-    if (!std::isfinite(fromDeg) || fromDeg < 0.0 || fromDeg > 360.0)
-        throw InputError(fmt::format("{}: {} is out of range; allowed 0 to 360 degrees (compass, clockwise from north)",
-                                     p.model == surf::WaveModel::Sinusoid ? "--waves-from" : "--wind-from", fromDeg));
-    p.windDirection = surf::directionFromCompass(fromDeg);
-    if (o.sea) {
-        if (p.model != surf::WaveModel::CoxMunk)
-            throw InputError(fmt::format("--sea: applies to model cox-munk only (model {} has its own slopes)", o.model));
-        const auto sea = littoral::parseName<littoral::CoxMunkSea>(*o.sea);
-        if (!sea) {
-            const auto names = littoral::allNames<littoral::CoxMunkSea>();
-            const std::string close = littoral::closestMatch(*o.sea, names);
-            throw InputError(fmt::format("--sea: unknown Cox-Munk surface '{}'; allowed: {}{}", *o.sea,
-                                         littoral::joinList(names),
-                                         close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close)));
-        }
-        p.sea = *sea;
-    }
-    p.sizeX = o.size;
-    p.sizeY = o.sizeY.value_or(o.size);
-    p.spacing = o.spacing;
-    p.seed = o.seed;
-    if (o.triangles && *o.triangles < 0)
-        throw InputError(fmt::format("--triangles: {} is negative; give a target >= {} or 0 for the full grid",
-                                     *o.triangles, surf::kMinTriangles));
-    // Without --triangles: the default target, or the full grid for cox-munk and for a grid smaller
-    // than the target (as in a scene file).
-    p.triangles = o.triangles ? static_cast<size_t>(*o.triangles) : surf::defaultTriangles(p);
-    p.fetch = o.fetch;
-    p.gamma = o.gamma;
-    p.amplitude = o.amplitude;
-    p.wavelength = o.wavelength;
-    p.phase = o.phase;
-    p.time = o.time;
-    p.depth = o.depth;
-    return p;
 }
 
 void runWaves(const WavesOptions& o) {

@@ -30,7 +30,18 @@ std::vector<std::filesystem::path> writeGeoLayers(const ir::SceneIR& ir, const r
                                                   const std::filesystem::path& outDir) {
     std::vector<std::filesystem::path> written;
     for (const render::SensorImage& img : res.images) {
-        const std::filesystem::path path = outDir / (img.sensor + "_geo.img");
+        const std::filesystem::path path = outDir / (img.sensor + "_geo.img"), tif = outDir / (img.sensor + ".tif");
+        const ir::Sensor* sensor = ir.findSensor(img.sensor);
+        const std::optional<ImageGeoreference> georef = imageGeoreference(ir, *sensor);
+        if (georef) {
+            writeGeoTiff(tif, img.film, *georef,
+                         fmt::format("Littoral render of scene {} sensor {}: band-averaged spectral radiance, W m^-2 sr^-1 "
+                                     "um^-1; CRS {}",
+                                     ir.name, img.sensor, georef->crsName));
+            written.push_back(tif);
+        } else {
+            removeStaleOutput(tif, "a GeoTIFF");
+        }
         if (!ir.geo) {  // this scene has no scene.origin
             for (const std::filesystem::path& p : {path, render::enviHeaderPath(path)})
                 removeStaleOutput(p, "georeferencing layers");
@@ -40,7 +51,6 @@ std::vector<std::filesystem::path> writeGeoLayers(const ir::SceneIR& ir, const r
         const bathymetry::GeoFrame frame = g.frame == "utm"
                                                ? bathymetry::GeoFrame::utm(g.latitudeDeg, g.longitudeDeg, g.altitudeM, g.utmZone)
                                                : bathymetry::GeoFrame::localCartesian(g.latitudeDeg, g.longitudeDeg, g.altitudeM);
-        const ir::Sensor* sensor = ir.findSensor(img.sensor);
         const render::Camera cam(*sensor);
         const int w = img.truth.width, h = img.truth.height;
         const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);

@@ -187,6 +187,7 @@ std::string runScene(const RunOptions& o) {
     jo.progress = o.progress;
     jo.preview = o.preview;
     jo.resume = o.resume;
+    jo.enviHeaderLines = [](const ir::SceneIR& ir, const ir::Sensor& s) { return enviGeoHeaderLines(ir, s); };
     render::RenderJobResult res;
     try {
         res = render::runRenderJob(built.ir, irDir, out, jo);

@@ -89,6 +89,20 @@ public:
         return trace(ray, st, rng);
     }
 
+protected:
+    const InteractionStep& interactionStep() const override { return step_; }
+    Spec continuePath(const Continuation& c, bool, int splits, int specular, int wraps, const Normal3& startNormal,
+                      RandomStream& rng) const override {
+        PathState ps;  // as shadeInterface continues a sensor path
+        ps.medium = c.medium;
+        ps.chain = c.chain;
+        ps.splits = splits;
+        ps.specularDepth = specular;
+        ps.wraps = wraps;
+        ps.startNormal = startNormal;
+        return trace(c.ray, ps, rng) * c.weight;
+    }
+
 private:
     bool mediumPM(int medium) const { return medium > 0 && config_.mediumPM[static_cast<size_t>(medium - 1)] && maps_; }
     // Per medium: transmittance uses the effective extinction a + b (1 - f) (the dissertation's

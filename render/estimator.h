@@ -24,6 +24,7 @@
 #include "core/rng.h"
 #include "core/scene_ir.h"
 #include "render/estimator_settings.h"
+#include "render/interaction.h"
 #include "render/scene.h"
 #include "render/spectral.h"
 #include "render/sun_connection.h"
@@ -82,6 +83,33 @@ std::vector<BandGroup> bandGroups(const Scene& scene);
 
 struct PhotonMaps;
 
+// The radiance of a sensor ray in the air split by where it first meets the sea surface (the
+// interface between the air and the water medium; render/water_products.cpp):
+//   waterLeaving  the light transmitted up through that surface point (Lw as the sensor sees it:
+//                 T_f L / n^2 of the radiance just under it, everything the water and seabed send);
+//   glint         the solar beam reflected once there: the rough interface's sun estimate and the
+//                 solar disc met directly by the reflected ray;
+//   skyReflected  everything else reflected there (the sky, and whatever the reflected ray meets);
+//   other         rays whose first surface is not the sea (land, objects, the sky seen directly).
+// The four add up to Estimator::Li's radiance for the same ray and random numbers.
+// ed0: the downwelling plane irradiance Ed(0+) on a horizontal plane at the sea point (sun and
+// sky, shadowed by everything but the sea surface itself; W m^-2 um^-1), meaningful when `sea`.
+struct RadianceParts {
+    Spec waterLeaving, skyReflected, glint, other, ed0;
+    bool sea = false;
+    explicit RadianceParts(int bands = 0)
+        : waterLeaving(bands), skyReflected(bands), glint(bands), other(bands), ed0(bands) {}
+    Spec total() const { return waterLeaving + skyReflected + glint + other; }
+};
+
+// The water medium of the products: the one named "water" (a scene file's), else the first after
+// the air; -1 if the scene has none.
+int waterMediumIndex(const Scene& scene);
+// Is h on the sea surface (an interface between the air and that medium)?
+bool isSeaSurface(const Scene& scene, const SurfaceHit& h);
+// Does a ray straight down from p, through periodic walls, first meet the sea surface from the air?
+bool seaBelow(const Scene& scene, const Point3& p);
+
 class Estimator {
 public:
     // `effectiveExtinction` (per medium, or empty): see SunConnection.
@@ -103,6 +131,10 @@ public:
     // single refraction (the part sun().direct() estimates): probes add that part separately.
     virtual Spec LiIndirect(const Ray& ray, int medium, RandomStream& rng) const = 0;
 
+    // Li(ray, medium) split into its water-leaving parts (RadianceParts), for a sensor in the air
+    // (medium 0; InternalError otherwise).
+    RadianceParts LiParts(const Ray& ray, int medium, RandomStream& rng) const;
+
     // The sun connections of this estimator's band group (next-event estimation through flat,
     // rough and faceted interfaces, the sky and disc seen by escaping rays).
     const SunConnection& sun() const { return sun_; }
@@ -114,6 +146,18 @@ public:
 
 protected:
     Spec bandValues(const std::vector<double>& v) const { return sun_.bandValues(v); }
+    // For LiParts: the interaction step of this estimator's radiance paths, and the radiance along
+    // a continuation that leaves a sensor path's first interface event, times its weight, as Li
+    // would follow it (`split`: one of the two lobes of a split event; `splits` deterministic
+    // splits left, `specular` interface events and `wraps` wall crossings so far, `startNormal`
+    // the surface it leaves).
+    virtual const InteractionStep& interactionStep() const = 0;
+    // From *ray in the air to its first surface that is not a periodic wall, wrapping as Li does
+    // (*wraps counts the wraps; *T takes the air's transmittance, if it attenuates, up to the hit).
+    // False if the ray escapes; true with *h a periodic wall if a wrap fails.
+    bool walkWalls(Ray* ray, SurfaceHit* h, int* wraps, Spec* T) const;
+    virtual Spec continuePath(const Continuation& c, bool split, int splits, int specular, int wraps,
+                              const Normal3& startNormal, RandomStream& rng) const = 0;
 
     const Scene& scene_;
     const RenderConfig& config_;

@@ -246,7 +246,7 @@ void writeEnviPair(const fs::path& imgPath, std::string_view data, const std::st
 }
 }  // namespace
 
-void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& description) {
+void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& description, const EnviFields& q) {
     checkFilm(film, imgPath);
     if (imgPath.extension() == ".hdr" || imgPath.extension() == ".HDR")
         throw InputError(SourceLoc{imgPath.string()},
@@ -265,14 +265,15 @@ void writeEnvi(const fs::path& imgPath, const Film& film, const std::string& des
     }
     std::string hdr;
     hdr += "ENVI\n";
-    hdr += "description = {" + desc + " [" + kQuantity + ", " + kRadianceUnits + "]}\n";
+    hdr += "description = {" + desc + " [" + q.quantity + ", " + q.units + "]}\n";
     hdr += fmt::format("samples = {}\nlines = {}\nbands = {}\n", film.width, film.height, nb);
     hdr += "header offset = 0\nfile type = ENVI Standard\ndata type = 4\ninterleave = bsq\nbyte order = 0\n";
     hdr += "wavelength units = Micrometers\n";
-    hdr += std::string("data units = ") + kRadianceUnits + "\n";
+    hdr += "data units = " + q.units + "\n";
     hdr += "band names = {" + [&] { std::string s; for (int b = 0; b < nb; ++b) s += (b ? ", " : "") + names[b]; return s; }() + "}\n";
     hdr += "wavelength = {" + [&] { std::string s; for (int b = 0; b < nb; ++b) s += (b ? ", " : "") + wl[b]; return s; }() + "}\n";
     hdr += "fwhm = {" + [&] { std::string s; for (int b = 0; b < nb; ++b) s += (b ? ", " : "") + fwhm[b]; return s; }() + "}\n";
+    hdr += q.extraHeader;
 
     // Data: BSQ float32 little endian.
     std::vector<float> bsq(film.pixels.size());

@@ -60,7 +60,16 @@ std::filesystem::path enviHeaderPath(const std::filesystem::path& imgPath);
 // `description` goes into the header's description field (braces are replaced by parentheses,
 // they would end the field). Both files are written to temporaries and renamed together at the
 // end; if the header cannot be renamed the just-renamed data file is removed again. InputError if imgPath ends in .hdr or cannot be written.
-void writeEnvi(const std::filesystem::path& imgPath, const Film& film, const std::string& description = "");
+// What a film's values are, for the header: the quantity and its units; and any further header
+// lines (e.g. `map info` and `coordinate system string`, each ending in a newline).
+inline constexpr const char* kEnviRadianceUnits = "W m^-2 sr^-1 um^-1";
+struct EnviFields {
+    std::string quantity = "band-averaged spectral radiance";
+    std::string units = kEnviRadianceUnits;
+    std::string extraHeader;
+};
+void writeEnvi(const std::filesystem::path& imgPath, const Film& film, const std::string& description = "",
+               const EnviFields& quantity = {});
 
 // The header of an ENVI file: every "key = value" pair, keys lower-cased, braces stripped from
 // values; list values are available split by commas through list().

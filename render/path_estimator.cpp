@@ -94,6 +94,20 @@ public:
         return trace(ray, medium, sun_.chainAfterVertex(medium), w, rng);
     }
 
+protected:
+    const InteractionStep& interactionStep() const override { return step_; }
+    Spec continuePath(const Continuation& c, bool split, int splits, int specular, int wraps, const Normal3&,
+                      RandomStream& rng) const override {
+        Walk w;  // as atSurface continues a sensor path
+        w.splits = splits;
+        w.specular = specular;
+        w.wraps = wraps;
+        // A split lobe is traced on its own and weighted; a sampled one goes on with the weight in
+        // its throughput (which Russian roulette reads).
+        if (split) return trace(c.ray, c.medium, c.chain, w, rng) * c.weight;
+        return trace(c.ray, c.medium, c.chain, w, rng, c.weight);
+    }
+
 private:
     // Counters along a path. The first `splits` delta-interface events trace both the reflected
     // and the refracted ray with their Fresnel weights (splitting: unbiased, and smooth water is
@@ -101,7 +115,8 @@ private:
     struct Walk {
         int vertices = 0, specular = 0, wraps = 0, splits = 0;
     };
-    Spec trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const;
+    // (beta0: the throughput the path starts with.)
+    Spec trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng, double beta0 = 1.0) const;
     // A path in flight: its ray, medium, sun chain and counters, the radiance gathered so far and
     // the throughput.
     struct PathState {
@@ -255,11 +270,11 @@ PathEstimator::Flight PathEstimator::cutAtMaxBounces() {
     return Flight::Ended;
 }
 
-Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng) const {
+Spec PathEstimator::trace(Ray ray, int medium, SunChain chain, Walk w, RandomStream& rng, double beta0) const {
     static StatCounter& paths = statCounter(kPathsTraced);
     if (w.vertices == 0 && w.specular == 0) paths.add();
     const int nb = group_.count;
-    PathState s{ray, medium, chain, w, Spec(nb), Spec(nb, 1.0)};
+    PathState s{ray, medium, chain, w, Spec(nb), Spec(nb, beta0)};
     for (;;) {
         SurfaceHit h;
         bool hit = false;

@@ -22,7 +22,7 @@ namespace littoral::render {
 
 namespace {
 
-enum class Quantity { Ed, Eu, Eod, Eou, Lu };
+enum class Quantity { Ed, Eu, Eod, Eou, Lu, Lw, Rrs };
 
 // The quantities a probe measures: one descriptor each (name, doc line; no parameters), in the
 // order messages list them. registerEstimatorKinds() registers them for the scene-file parser.
@@ -40,6 +40,13 @@ const KindRegistry<QuantityKind>& quantityKinds() {
         r.add({{"probe quantity", "Eod", "downwelling scalar irradiance, W m^-2 um^-1", {}}, Quantity::Eod});
         r.add({{"probe quantity", "Eou", "upwelling scalar irradiance, W m^-2 um^-1", {}}, Quantity::Eou});
         r.add({{"probe quantity", "Lu", "nadir-viewing upwelling radiance, W m^-2 sr^-1 um^-1", {}}, Quantity::Lu});
+        r.add({{"probe quantity", "Lw",
+                "water-leaving part of Lu for a probe in the air above the sea (docs/rendering.md), W m^-2 sr^-1 um^-1",
+                {}},
+               Quantity::Lw});
+        r.add({{"probe quantity", "Rrs",
+                "remote-sensing reflectance Lw / Ed(0+) at the sea point below a probe in the air, sr^-1", {}},
+               Quantity::Rrs});
         return r;
     }();
     return registry;
@@ -66,8 +73,19 @@ struct ProbeSampler {
 
     bool up() const { return q == Quantity::Ed || q == Quantity::Eod; }
 
-    // One sample, for the stratified point u of the quantity's hemisphere.
-    Spec sample(const Vec2& u, RandomStream& rng) const {
+    bool waterLeaving() const { return q == Quantity::Lw || q == Quantity::Rrs; }
+
+    // One sample, for the stratified point u of the quantity's hemisphere. Lw and Rrs: the
+    // water-leaving part of the nadir ray's radiance, and in *ed0 the Ed(0+) of its sea point.
+    Spec sample(const Vec2& u, RandomStream& rng, Spec* ed0 = nullptr) const {
+        if (waterLeaving()) {
+            Ray ray;
+            ray.o = position;
+            ray.d = {0, 0, -1};
+            const RadianceParts p = est.LiParts(ray, medium, rng);
+            if (ed0) *ed0 = p.ed0;
+            return p.waterLeaving;
+        }
         if (sunDir) return sampleMixed(u, rng);
         Vec3 w;
         double weight;
@@ -133,7 +151,9 @@ ProbeValue emptyValue(const std::string& probe, const std::string& quantity, Qua
     ProbeValue v;
     v.probe = probe;
     v.quantity = quantity;
-    v.units = q == Quantity::Lu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
+    v.units = q == Quantity::Lu || q == Quantity::Lw ? "W m^-2 sr^-1 um^-1"
+              : q == Quantity::Rrs                   ? "sr^-1"
+                                                     : "W m^-2 um^-1";
     v.mean.assign(bands, 0.0);
     v.stderr_.assign(bands, 0.0);
     v.samples = samples;
@@ -141,15 +161,21 @@ ProbeValue emptyValue(const std::string& probe, const std::string& quantity, Qua
     return v;
 }
 
-// The mean of the batch means and its standard error (their spread), per band of g.
+// The mean of the batch means and its standard error (their spread), per band of g. With
+// `denominators` (Rrs): each batch's value is the ratio of its sums (the ratio of its means; its
+// bias, O(1/samples per batch), is far below the spread).
 void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, int perBatch, BandGroup g,
-                     ProbeValue* v) {
+                     ProbeValue* v, const std::vector<Spec>* denominators = nullptr) {
     for (int b = 0; b < g.count; ++b) {
         double sum = 0, sum2 = 0;
         for (int batch = 0; batch < B; ++batch) {
-            double s = 0;
-            for (int c = 0; c < chunksPerBatch; ++c) s += chunkSums[static_cast<size_t>(batch) * chunksPerBatch + c][b];
-            const double m = s / perBatch;
+            double s = 0, d = 0;
+            for (int c = 0; c < chunksPerBatch; ++c) {
+                const size_t k = static_cast<size_t>(batch) * chunksPerBatch + c;
+                s += chunkSums[k][b];
+                if (denominators) d += (*denominators)[k][b];
+            }
+            const double m = denominators ? (d > 0 ? s / d : 0.0) : s / perBatch;
             sum += m;
             sum2 += m * m;
         }
@@ -173,6 +199,13 @@ void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& pr
     checkNotInsideOpaque(scene, probe.position, who);
     checkClearOfSurfaces(scene, probe.position, who);
     checkDeclaredMedium(scene, probe.position, medium, who);
+    for (const std::string& q : probe.quantities) {
+        const Quantity k = parseQuantity(q, who);
+        if ((k == Quantity::Lw || k == Quantity::Rrs) && (medium != 0 || !seaBelow(scene, probe.position)))
+            throw InputError(fmt::format("{}: quantity {} needs a probe in the air with the sea surface straight below it "
+                                         "(it splits the nadir radiance where it meets the sea)",
+                                         who, q));
+    }
     const int B = cfg.probeBatches;
     const int N = probe.samples.value_or(cfg.probeSamples);
     if (N < B)
@@ -228,6 +261,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                                        up && md.scattering() && md.forwardPeaked() ? est.sun().refractedDirection(medium)
                                                                                    : std::nullopt};
             std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
+            std::vector<Spec> edSums(q == Quantity::Rrs ? chunkSums.size() : 0, Spec(g.count));
             tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
             arena.execute([&] {
                 tbb::parallel_for(tbb::blocked_range<size_t>(0, chunkSums.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
@@ -235,20 +269,22 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                         const int batch = static_cast<int>(c / chunksPerBatch);
                         const int k0 = static_cast<int>(c % chunksPerBatch) * kChunk;
                         const int k1 = std::min(perBatch, k0 + kChunk);
-                        Spec sum(g.count);
+                        Spec sum(g.count), ed(g.count), ed0(g.count);
                         for (int k = k0; k < k1; ++k) {
                             const uint64_t index = static_cast<uint64_t>(batch) * perBatch + k;
                             RandomStream rng(scene.ir().render.seed, streamBase + probeIndex * 16 + qi, index);
                             const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
-                            sum += sampler.sample(u, rng);
+                            sum += sampler.sample(u, rng, &ed0);
+                            ed += ed0;
                         }
                         chunkSums[c] = sum;
+                        if (!edSums.empty()) edSums[c] = ed;
                         flushRayStats();
                         if (progress) progress->advance();
                     }
                 });
             });
-            batchStatistics(chunkSums, B, chunksPerBatch, perBatch, g, &v);
+            batchStatistics(chunkSums, B, chunksPerBatch, perBatch, g, &v, edSums.empty() ? nullptr : &edSums);
         }
         out.push_back(std::move(v));
     }

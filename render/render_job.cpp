@@ -22,11 +22,17 @@ namespace {
 
 // Adds one pass's images and probe values to the running sums.
 void accumulate(ProgressiveState& st, const std::vector<SensorImage>& images, const std::vector<ProbeValue>& probes) {
+    // One running sum per sensor over its films end to end (the radiance, then any products).
     if (st.imageSums.empty()) st.imageSums.resize(images.size());
     for (size_t i = 0; i < images.size(); ++i) {
         auto& s = st.imageSums[i];
-        s.resize(images[i].film.pixels.size(), 0.0);
-        for (size_t k = 0; k < s.size(); ++k) s[k] += images[i].film.pixels[k];
+        const std::vector<const Film*> films = images[i].films();
+        size_t size = 0;
+        for (const Film* f : films) size += f->pixels.size();
+        s.resize(size, 0.0);
+        size_t k = 0;
+        for (const Film* f : films)
+            for (float v : f->pixels) s[k++] += v;
     }
     if (st.probeSums.empty()) {
         st.probeSums.resize(probes.size());
@@ -48,9 +54,11 @@ void accumulate(ProgressiveState& st, const std::vector<SensorImage>& images, co
 void finish(const ProgressiveState& st, std::vector<SensorImage>* outImages, std::vector<ProbeValue>* outProbes,
             std::vector<SensorImage>& last, std::vector<ProbeValue>& lastProbes) {
     const double n = st.passesDone;
-    for (size_t i = 0; i < last.size(); ++i)
-        for (size_t k = 0; k < last[i].film.pixels.size(); ++k)
-            last[i].film.pixels[k] = static_cast<float>(st.imageSums[i][k] / n);
+    for (size_t i = 0; i < last.size(); ++i) {
+        size_t k = 0;
+        for (Film* f : last[i].films())
+            for (float& v : f->pixels) v = static_cast<float>(st.imageSums[i][k++] / n);
+    }
     for (size_t i = 0; i < lastProbes.size(); ++i)
         for (size_t b = 0; b < lastProbes[i].mean.size(); ++b) {
             const double mean = st.probeSums[i][b] / n;
@@ -142,12 +150,15 @@ void reportDetector(const std::string& sensor, const DetectorImage& det, const i
     }
 }
 
+void writeWaterProducts(const SensorImage& img, const std::filesystem::path& outDir,
+                        const std::vector<std::string>& files, const std::string& description, const EnviFields& envi);
+
 // The outputs a sensor may not have (files[6] and [8..10] of sensorOutputFiles): written when it
 // has them; otherwise one left by an earlier run into this folder would sit beside outputs it does
 // not belong to, and is removed.
 void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, const std::filesystem::path& outDir,
                           const std::vector<std::string>& files, const std::map<std::string, std::string>& meta,
-                          const RenderJobOptions& opts) {
+                          const std::string& description, const EnviFields& envi, const RenderJobOptions& opts) {
     auto optional = [&](size_t f, bool wanted, const char* what, auto&& write) {
         if (wanted) write(outDir / files[f]);
         else removeStaleOutput(outDir / files[f], what);
@@ -165,6 +176,41 @@ void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, cons
         writeTextFileAtomic(p, detectorReportJson(*det, *sensor.detector, img.film.bands));
     });
     if (det) reportDetector(img.sensor, *det, *sensor.detector, img.film.bands);
+    writeWaterProducts(img, outDir, files, description, envi);
+}
+
+// The water-leaving products (files[13..24] of sensorOutputFiles, ENVI pairs): the four parts of
+// the radiance, Ed(0+) and Rrs = Lw / Ed(0+) (per band, after any spectral response: the ratio of
+// the band-weighted means). Removed when the sensor has none, like the other optional outputs.
+void writeWaterProducts(const SensorImage& img, const std::filesystem::path& outDir,
+                        const std::vector<std::string>& files, const std::string& description, const EnviFields& envi) {
+    struct Product {
+        const char* what;
+        EnviFields quantity;
+    };
+    const std::vector<Product> products = {
+        {"water-leaving radiance", {"water-leaving radiance Lw", kEnviRadianceUnits}},
+        {"sky-reflected radiance", {"sky-reflected radiance", kEnviRadianceUnits}},
+        {"sun glint", {"sun glint radiance", kEnviRadianceUnits}},
+        {"other radiance", {"radiance not from the sea surface", kEnviRadianceUnits}},
+        {"Ed(0+)", {"downwelling plane irradiance Ed(0+) at the sea point", "W m^-2 um^-1"}},
+        {"Rrs", {"remote-sensing reflectance Rrs = Lw / Ed(0+)", "sr^-1"}}};
+    if (!img.products) {
+        for (size_t k = 0; k < products.size(); ++k)
+            removeStaleOutput(outDir / files[13 + 2 * k], products[k].what),
+                removeStaleOutput(outDir / files[14 + 2 * k], products[k].what);
+        return;
+    }
+    const WaterProductFilms& p = *img.products;
+    Film rrs = p.waterLeaving;
+    for (size_t k = 0; k < rrs.pixels.size(); ++k) {
+        const float e = p.ed0.pixels[k];
+        rrs.pixels[k] = e > 0 ? p.waterLeaving.pixels[k] / e : std::numeric_limits<float>::quiet_NaN();
+    }
+    const Film* films[] = {&p.waterLeaving, &p.skyReflected, &p.glint, &p.other, &p.ed0, &rrs};
+    for (size_t k = 0; k < products.size(); ++k)
+        writeEnvi(outDir / files[13 + 2 * k], *films[k], description,
+                  EnviFields{products[k].quantity.quantity, products[k].quantity.units, envi.extraHeader});
 }
 
 // Bands with a spectral response: the images and probe values over the internal sub-bands become
@@ -172,7 +218,8 @@ void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, cons
 // correlated sub-bands (they share their sample paths).
 void applyResponseBands(const std::vector<ir::ResponseBand>& responses, RenderJobResult* res) {
     if (responses.empty()) return;
-    for (SensorImage& img : res->images) img.film = combineBands(img.film, responses);
+    for (SensorImage& img : res->images)
+        for (Film* f : img.films()) *f = combineBands(*f, responses);
     for (ProbeValue& v : res->probes) {
         v.mean = combineValues(v.mean, responses);
         std::vector<double> se;
@@ -198,7 +245,10 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         // S_legend.csv, S_psf.exr, S_noisy.exr, S_detector.json (the sensor model).
         const std::vector<std::string> files = sensorOutputFiles(img.sensor);
         writeExr(outDir / files[0], img.film, meta);
-        writeEnvi(outDir / files[1], img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor));
+        EnviFields envi;
+        if (opts.enviHeaderLines) envi.extraHeader = opts.enviHeaderLines(ir, *ir.findSensor(img.sensor));
+        writeEnvi(outDir / files[1], img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor),
+                  envi);
         PreviewOptions po = opts.preview;
         if (img.film.bandCount() < 3) po.mapping = PreviewOptions::Mapping::Grey;
         if (po.mapping == PreviewOptions::Mapping::Grey) po.greyUm = img.film.bands[0].center();
@@ -206,7 +256,8 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         writeTruthExr(outDir / files[4], img.truth, materialNames);
         writeMaterialIdPng(outDir / files[5], img.truth);
         writeTextFileAtomic(outDir / files[7], truthLegendCsv(img.truth, materialNames, materialTypes));
-        writeOptionalOutputs(*ir.findSensor(img.sensor), img, outDir, files, meta, opts);
+        writeOptionalOutputs(*ir.findSensor(img.sensor), img, outDir, files, meta,
+                             fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor), envi, opts);
         for (const std::string& f : files)
             if (std::filesystem::exists(outDir / f)) res.written.push_back(outDir / f);
     }
@@ -249,7 +300,8 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     shape.sensor = opts.sensor;
     shape.passes = passes;
     shape.bands = static_cast<size_t>(scene.bandCount());
-    for (const ir::Sensor* s : sensors) shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands);
+    for (const ir::Sensor* s : sensors)  // the radiance and, with water products, five more films
+        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * (s->waterProducts ? 6 : 1));
     if (probesToo)
         for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
     if (opts.resume) {

@@ -18,6 +18,7 @@
 // photon maps' own noise.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ struct RenderJobOptions {
     // Photons a photon pass may emit while filling its maps (0: the default, at least 10^7; a map
     // still short then holds what was stored, with a warning). For tiny runs (fuzz/).
     uint64_t maxPhotonsEmitted = 0;
+    // Further ENVI header lines for a sensor's images (the pipelines' georeferencing: map info and
+    // coordinate system string), or none.
+    std::function<std::string(const ir::SceneIR&, const ir::Sensor&)> enviHeaderLines;
 };
 
 struct RenderJobResult {

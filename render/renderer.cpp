@@ -24,6 +24,23 @@ namespace littoral::render {
 
 namespace {
 
+// A pixel's sums of the water-leaving parts over its samples (Ed(0+) over those that met the sea).
+struct PartSums {
+    Spec waterLeaving, skyReflected, glint, other, ed0;
+    int seaSamples = 0;
+    explicit PartSums(int n) : waterLeaving(n), skyReflected(n), glint(n), other(n), ed0(n) {}
+    void add(const RadianceParts& p) {
+        waterLeaving += p.waterLeaving;
+        skyReflected += p.skyReflected;
+        glint += p.glint;
+        other += p.other;
+        if (p.sea) {
+            ed0 += p.ed0;
+            ++seaSamples;
+        }
+    }
+};
+
 struct Tiling {
     int width, height, size, nx, ny;
     Tiling(int w, int h, int s) : width(w), height(h), size(std::max(1, s)) {
@@ -198,6 +215,7 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
         checkNotInsideOpaque(scene, sensor.position, who);
         checkDeclaredMedium(scene, sensor.position, medium, who);
     }
+    if (sensor.waterProducts) checkWaterProducts(scene, sensor, medium);
     TruthImages truth(cam.width(), cam.height());
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     std::atomic<int64_t> hits{0};
@@ -238,6 +256,31 @@ TruthImages renderTruth(const Scene& scene, const ir::Sensor& sensor, const Rend
     return truth;
 }
 
+std::vector<Film*> SensorImage::films() {
+    std::vector<Film*> f{&film};
+    if (products)
+        for (Film* p : {&products->waterLeaving, &products->skyReflected, &products->glint, &products->other, &products->ed0})
+            f.push_back(p);
+    return f;
+}
+
+std::vector<const Film*> SensorImage::films() const {
+    std::vector<const Film*> f;
+    for (Film* p : const_cast<SensorImage*>(this)->films()) f.push_back(p);
+    return f;
+}
+
+void checkWaterProducts(const Scene& scene, const ir::Sensor& sensor, int medium) {
+    if (medium != 0)
+        throw InputError(fmt::format("sensor '{}': water_products needs a sensor in the air (it is in medium '{}'): the "
+                                     "products split what reaches a sensor above the sea surface",
+                                     sensor.name, mediumName(scene, medium)));
+    if (scene.media().size() < 2)
+        throw InputError(fmt::format("sensor '{}': water_products needs a water medium (the scene has none): the "
+                                     "products split the radiance where it meets the sea surface",
+                                     sensor.name));
+}
+
 SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const RenderOptions& opts) {
     const EstimatorSet estimators(scene);
     return renderSensor(scene, estimators, sensor, opts);
@@ -251,6 +294,9 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     const Camera cam(sensor);
     const int medium = scene.mediumIndex(sensor.medium, fmt::format("sensor '{}' medium", sensor.name));
     out.film = Film(cam.width(), cam.height(), scene.bands());
+    if (sensor.waterProducts) {
+        out.products = WaterProductFilms{out.film, out.film, out.film, out.film, out.film};
+    }
     const int nb = scene.bandCount();
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     const auto& groups = estimators.groups();
@@ -274,22 +320,40 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
             tiling.forEachPixel(tile, [&](int x, int y) {
                 const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
                 Spec sum(g.count);
+                PartSums parts(g.count);
                 for (int s = 0; s < spp; ++s) {
                     RandomStream rng(seed, firstStream + static_cast<uint64_t>(s), pixel);
                     Vec2 u{0.5, 0.5};  // one sample: the pixel centre (as the thesis' comparators)
                     const double j1 = rng.uniform(), j2 = rng.uniform();
                     if (spp > 1) u = pixelLayout.point(s, j1, j2);
                     const Ray ray = cam.generateRay(x + u.x, y + u.y);
-                    sum += estimator.Li(ray, medium, rng);
-                }
-                float* px = &out.film.pixels[pixel * nb];
-                for (int b = 0; b < g.count; ++b) {
-                    double v = sum[b] / spp;
-                    if (!std::isfinite(v)) {  // never expected; counted and reported, not written
-                        ++nonFinite;
-                        v = 0.0;
+                    if (out.products) {
+                        const RadianceParts p = estimator.LiParts(ray, medium, rng);
+                        parts.add(p);
+                        sum += p.total();
+                    } else {
+                        sum += estimator.Li(ray, medium, rng);
                     }
-                    px[g.begin + b] = static_cast<float>(v);
+                }
+                auto store = [&](Film& film, const Spec& total, double n) {
+                    float* px = &film.pixels[pixel * nb];
+                    for (int b = 0; b < g.count; ++b) {
+                        double v = n > 0 ? total[b] / n : std::numeric_limits<double>::quiet_NaN();
+                        if (!std::isfinite(v) && n > 0) {  // never expected; counted and reported, not written
+                            ++nonFinite;
+                            v = 0.0;
+                        }
+                        px[g.begin + b] = static_cast<float>(v);
+                    }
+                };
+                store(out.film, sum, spp);
+                if (out.products) {
+                    WaterProductFilms& f = *out.products;
+                    store(f.waterLeaving, parts.waterLeaving, spp);
+                    store(f.skyReflected, parts.skyReflected, spp);
+                    store(f.glint, parts.glint, spp);
+                    store(f.other, parts.other, spp);
+                    store(f.ed0, parts.ed0, parts.seaSamples);
                 }
             });
         });

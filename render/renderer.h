@@ -13,7 +13,9 @@
 //  * an empty view: none of the pixel-centre rays meets any geometry (the image would show only
 //    sky or black; an aim error, e.g. a flipped forward vector, or a scene with nothing in view);
 //  * spectra outside a band's range, unknown names (Scene construction).
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "core/scene_ir.h"
 #include "render/camera.h"
@@ -28,10 +30,21 @@ struct RenderOptions {
     bool progress = true;  // show a progress bar over tiles
 };
 
+// A sensor's water-leaving products (ir::Sensor::waterProducts): the parts of its radiance
+// (RadianceParts, render/estimator.h), each a film in the radiance's units, whose sum is `film`;
+// and Ed(0+) (W m^-2 um^-1), the mean over the pixel's samples that met the sea, NaN if none did.
+struct WaterProductFilms {
+    Film waterLeaving, skyReflected, glint, other, ed0;
+};
+
 struct SensorImage {
     std::string sensor;
     Film film;            // band-averaged radiance, W m^-2 sr^-1 um^-1
     TruthImages truth;    // first-hit material, range, depth below z = 0 of the pixel-centre ray
+    std::optional<WaterProductFilms> products;
+    // The radiance film and the product films, in that order (for sums over passes and bands).
+    std::vector<Film*> films();
+    std::vector<const Film*> films() const;
 };
 
 class EstimatorSet;
@@ -57,6 +70,9 @@ void checkNotInsideOpaque(const Scene& scene, const Point3& p, const std::string
 // of the six axis directions (a probe on the seabed would read 0 from below).
 inline constexpr double kSurfaceClearance = 1e-4;  // m
 void checkClearOfSurfaces(const Scene& scene, const Point3& p, const std::string& who);
+// Throws InputError unless a sensor with water_products sits in the air (medium 0) of a scene
+// with water.
+void checkWaterProducts(const Scene& scene, const ir::Sensor& sensor, int medium);
 // Throws InputError if `declared` (a medium index) disagrees with the media the interfaces around
 // the point put it in; nothing when they are ambiguous or absent.
 void checkDeclaredMedium(const Scene& scene, const Point3& p, int declared, const std::string& who);

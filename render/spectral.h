@@ -35,9 +35,11 @@ struct Spec {
     double operator[](int i) const { return v[i]; }
 
     Spec& operator+=(const Spec& o) { for (int i = 0; i < n; ++i) v[i] += o.v[i]; return *this; }
+    Spec& operator-=(const Spec& o) { for (int i = 0; i < n; ++i) v[i] -= o.v[i]; return *this; }
     Spec& operator*=(const Spec& o) { for (int i = 0; i < n; ++i) v[i] *= o.v[i]; return *this; }
     Spec& operator*=(double s) { for (int i = 0; i < n; ++i) v[i] *= s; return *this; }
     Spec operator+(const Spec& o) const { Spec r = *this; r += o; return r; }
+    Spec operator-(const Spec& o) const { Spec r = *this; r -= o; return r; }
     Spec operator*(const Spec& o) const { Spec r = *this; r *= o; return r; }
     Spec operator*(double s) const { Spec r = *this; r *= s; return r; }
     bool isBlack() const { for (int i = 0; i < n; ++i) if (v[i] != 0.0) return false; return true; }

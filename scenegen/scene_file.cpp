@@ -193,7 +193,7 @@ std::vector<std::string> sensorKeys() {
     for (const SensorKind& k : sensorTypeKinds().kinds())
         for (const ParamSpec& p : k.info.params)
             if (std::find(keys.begin(), keys.end(), p.sceneName()) == keys.end()) keys.push_back(p.sceneName());
-    keys.insert(keys.end(), {"width", "height", "samples_per_pixel", "medium", "psf", "detector"});
+    keys.insert(keys.end(), {"width", "height", "samples_per_pixel", "medium", "psf", "detector", "water_products"});
     return keys;
 }
 
@@ -424,6 +424,10 @@ SensorSection parseSensor(const YamlNode& n) {
                     "needs a frame or pinhole sensor");
         s.detector = parseSensorDetector(*d, 1);
         s.detectorSeedGiven = d->has("seed");
+    }
+    if (auto w = n.optional("water_products")) {
+        s.waterProducts = w->asBool();
+        s.waterProductsLoc = w->loc();
     }
     return s;
 }
@@ -1100,6 +1104,15 @@ ir::Sensor placeSensor(const SensorSection& s, double waterLevel, bool hasWater)
     }
     if (s.medium == "water") c.medium = "water";
     else if (s.medium == "auto" && hasWater && c.position.z < waterLevel) c.medium = "water";
+    if (s.waterProducts && !hasWater)
+        throw InputError(s.waterProductsLoc, fmt::format("sensor '{}': water_products needs water in the scene (there is no water "
+                                            "section): the products split the radiance where it meets the sea surface",
+                                            s.name));
+    if (s.waterProducts && c.medium == "water")
+        throw InputError(s.waterProductsLoc, fmt::format("sensor '{}': water_products needs a sensor in the air (this one is in the "
+                                            "water): the products split what reaches a sensor above the sea surface",
+                                            s.name));
+    c.waterProducts = s.waterProducts;
     return c;
 }
 

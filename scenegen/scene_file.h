@@ -66,6 +66,8 @@ struct SensorSection {
     std::optional<ir::SensorPsf> psf;            // render/sensor_model.h
     std::optional<ir::SensorDetector> detector;  // its seed defaults to render.seed
     bool detectorSeedGiven = false;
+    bool waterProducts = false;  // water_products: true (render/water_products.cpp)
+    SourceLoc waterProductsLoc;
 };
 
 struct ProbeSection {

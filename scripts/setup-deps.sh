@@ -18,6 +18,8 @@ PACKAGES=(
   libfftw3-dev
   libfmt-dev
   nlohmann-json3-dev
+  libgdal-dev                # GeoTIFF and ENVI georeferencing (pipelines/lib_geotiff.cpp)
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib   # the Python package (python/)
   clang libclang-rt-14-dev   # libFuzzer targets (fuzz/), smoke-run by the test suite
 )
 

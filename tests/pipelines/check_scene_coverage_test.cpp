@@ -126,7 +126,14 @@ const std::vector<Case>& cases() {
         {"probe_inside_object", "a probe inside a closed opaque object", kProbe + "\n" + kRender,
          "{name: p, position: [3, 3, 1], quantities: [Ed]}\n" + withCube("floor"), ":10:5",
          "probe 'p' at (3, 3, 1) is inside object 'box': it would measure nothing"},
+        {"probe_rrs_in_water", "a probe under water asking for `Rrs` (it needs the sea surface below it, in the air)",
+         "quantities: [Ed]}", "quantities: [Ed, Rrs]}", ":10:5",
+         "probe 'p': quantity Rrs needs a probe in the air with the sea surface straight below it"},
         // Sensors (render::Camera, render::renderTruth).
+        {"water_products_under_water", "`water_products: true` on a sensor under water", kFrame,
+         "{name: nadir, type: pinhole, position: [0, 0, -1], direction: [0, 0, -1], focal_length_mm: 5, "
+         "pixel_pitch_um: 10, width: 8, height: 8, water_products: true}",
+         ":8:156", "water_products needs a sensor in the air (this one is in the water)"},
         {"pinhole_sees_nothing", "a pinhole camera whose view misses the scene", kFrame,
          "{name: nadir, type: pinhole, position: [0, 0, 5], direction: [0, 0, 1], focal_length_mm: 5, "
          "pixel_pitch_um: 10, width: 8, height: 8}",

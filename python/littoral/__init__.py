@@ -1,0 +1,121 @@
+"""Littoral from Python: wave surfaces, scene checks, runs, and every output as numpy arrays.
+
+The work is done by the same C++ code as the `littoral` command (the compiled `_littoral`
+module), so a run here writes the same files, byte for byte, as `littoral run`.
+
+    import littoral
+    surface = littoral.waves("pierson-moskowitz", wind=7, size=50, spacing=0.25, seed=1)
+    surface.heights, surface.x, surface.y         # the height field (rows = y)
+    surface.vertices, surface.triangles           # the facetized mesh
+    surface.stats                                 # the statistics of `littoral waves --stats`
+    print(littoral.check_scene("scene.yaml"))     # raises littoral.InputError with file:line:col
+    littoral.run("scene.yaml", "out")             # build + render, with a progress bar
+    image = littoral.read_image("out/cam.img")    # data (bands, rows, cols), wavelengths, header
+    probes = littoral.read_probes("out")          # probes.json as a list of dicts
+"""
+import json
+import os
+
+import numpy as np
+
+from ._littoral import InputError, WaveSurface, check_scene, read_envi as _read_envi, read_exr as _read_exr
+from ._littoral import run as _run
+from ._littoral import waves as _waves
+
+__all__ = ["InputError", "WaveSurface", "Image", "waves", "check_scene", "run", "read_image", "read_probes",
+           "read_products", "PRODUCTS"]
+
+# The water-leaving products a sensor with `water_products: true` writes (docs/outputs.md).
+PRODUCTS = ("water_leaving", "sky_reflected", "glint", "other", "ed0", "rrs")
+
+WaveSurface.stats = property(lambda self: json.loads(self.stats_json),
+                             doc="The wave statistics, as `littoral waves --stats` writes them")
+
+
+def waves(model="beaufort", **options):
+    """A wave surface with the options of `littoral waves` (wind=, wind_from=, size=, spacing=, seed=, ...)."""
+    return _waves(model, **options)
+
+
+def run(scene, out, *, sensor="", threads=0, progress=True):
+    """Build and render a scene file into `out`, as `littoral run SCENE --out OUT`; returns the summary."""
+    return _run(os.fspath(scene), os.fspath(out), sensor=sensor, threads=threads, progress=progress)
+
+
+def _read_envi_header(path):
+    fields, key, value = {}, None, None
+    with open(path, encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    for line in lines[1:]:
+        if key is not None:  # a braced value running over several lines
+            value += "\n" + line
+            if "}" in line:
+                fields[key] = value.strip().strip("{}").strip()
+                key = None
+            continue
+        if "=" not in line:
+            continue
+        k, v = line.split("=", 1)
+        k, v = k.strip().lower(), v.strip()
+        if v.startswith("{") and "}" not in v:
+            key, value = k, v
+        else:
+            fields[k] = v.strip("{}").strip()
+    return fields
+
+
+class Image:
+    """A multi-band image: `data` (bands, rows, cols) float32, its bands and, for ENVI, the header."""
+
+    def __init__(self, path, film, header=None):
+        self.path = os.fspath(path)
+        self.data = np.asarray(film["data"])
+        self.band_lo_um = np.asarray(film["band_lo_um"])
+        self.band_hi_um = np.asarray(film["band_hi_um"])
+        self.header = header or {}
+        self.units = self.header.get("data units", "W m^-2 sr^-1 um^-1")
+
+    @property
+    def wavelengths_um(self):
+        """Band centres (for a spectral response band: its nominal centre)."""
+        return 0.5 * (self.band_lo_um + self.band_hi_um)
+
+    @property
+    def fwhm_um(self):
+        return self.band_hi_um - self.band_lo_um
+
+    def __repr__(self):
+        b, h, w = self.data.shape
+        return f"Image('{self.path}', {b} bands, {w} x {h} px, {self.units})"
+
+
+def read_image(path):
+    """Reads an ENVI image (.img, its .hdr beside it) or an OpenEXR radiance image (.exr)."""
+    path = os.fspath(path)
+    if path.lower().endswith(".exr"):
+        return Image(path, _read_exr(path))
+    header = _read_envi_header(os.path.splitext(path)[0] + ".hdr")
+    return Image(path, _read_envi(path), header)
+
+
+def read_products(out, sensor):
+    """The water-leaving products of `sensor` in the output folder `out`, as {name: Image}."""
+    return {p: read_image(os.path.join(os.fspath(out), f"{sensor}_{p}.img")) for p in PRODUCTS}
+
+
+def read_probes(out):
+    """probes.json of an output folder (or the file itself): a list of dicts, values as numpy arrays."""
+    path = os.fspath(out)
+    if os.path.isdir(path):
+        path = os.path.join(path, "probes.json")
+    with open(path, encoding="utf-8") as f:
+        j = json.load(f)
+    probes = []
+    for p in j["probes"]:
+        p = dict(p)
+        p["value"] = np.asarray(p["value"], dtype=float)
+        p["stderr"] = np.asarray(p["stderr"], dtype=float)
+        p["band_lo_um"] = np.asarray([b["lo_um"] for b in j["bands"]])
+        p["band_hi_um"] = np.asarray([b["hi_um"] for b in j["bands"]])
+        probes.append(p)
+    return probes

@@ -1,0 +1,123 @@
+"""The Python package against the command line: the same code, so the same bytes.
+
+Runs from CTest (python.pytest) with BUILD/python on PYTHONPATH; LITTORAL_BINARY_DIR names the
+build (for bin/littoral), LITTORAL_SOURCE_DIR the checkout.
+"""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import littoral
+
+BUILD = os.environ.get("LITTORAL_BINARY_DIR", "build")
+SOURCE = os.environ.get("LITTORAL_SOURCE_DIR", ".")
+CLI = os.path.join(BUILD, "bin", "littoral")
+
+SCENE = """scene: {name: py, domain: {x: [-5, 5], y: [-5, 5]}}
+sun: {zenith_deg: 30, irradiance: 1000}
+sky: {radiance: 20}
+water: {level_m: 0, optics: {preset: low}}
+bathymetry: {type: planar_slope, z0_m: -2, material: sand}
+materials: [{name: sand, reflectance: 0.3}]
+sensors:
+  - {name: cam, type: frame, elevation_deg: 70, azimuth_deg: 180, range_m: 20, gsd_m: 0.25, width: 8, height: 6,
+     water_products: true}
+probes:
+  - {name: above, position: [0, 0, 1], quantities: [Ed, Rrs], samples: 256}
+render: {bands: [[0.45, 0.5], [0.55, 0.6]], hemisphere_samples: 4, photons: {volume: 20000}, probe_batches: 4}
+"""
+
+
+def cli(*args):
+    r = subprocess.run([CLI, "-q", *args], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    return r
+
+
+def test_wave_statistics_and_mesh_equal_the_command_byte_for_byte(tmp_path):
+    cli("waves", "--model", "pierson-moskowitz", "--wind", "7", "--size", "24", "--spacing", "0.5", "--seed", "3",
+        "--stats", str(tmp_path / "cli.json"), "--out", str(tmp_path / "cli.ply"))
+    s = littoral.waves("pierson-moskowitz", wind=7, size=24, spacing=0.5, seed=3)
+    # Every statistic equal (the JSON as written, but for the wall-clock timings it also holds).
+    ours, theirs = s.stats, json.loads((tmp_path / "cli.json").read_text())
+    assert ours.pop("timing_s") and theirs.pop("timing_s")
+    assert ours == theirs
+    s.write_mesh(str(tmp_path / "py.ply"))
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    # The height field: a 49 x 49 grid over [-12, 12] m whose RMS is the statistics' own.
+    assert s.heights.shape == (49, 49)
+    assert s.x[0] == -12 and s.x[-1] == 12 and s.y.shape == (49,)
+    h = s.heights[:-1, :-1] if s.stats["grid"]["periodic"] else s.heights  # (periodic: the last row and column repeat)
+    rms = float(np.sqrt(np.mean((h - h.mean()) ** 2)))
+    assert rms == pytest.approx(s.stats["grid_measured"]["rms_height"], rel=1e-6)
+    assert s.vertices.shape[1] == 3 and s.triangles.shape[1] == 3
+    assert int(s.triangles.max()) < s.vertices.shape[0]
+
+
+def test_bad_options_and_scenes_raise_input_error_with_the_location(tmp_path):
+    with pytest.raises(littoral.InputError, match="--model: unknown model 'beufort'.*did you mean 'beaufort'"):
+        littoral.waves("beufort", wind=5)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SCENE.replace("gsd_m: 0.25", "gsd_m: -1"))
+    with pytest.raises(littoral.InputError, match=r"bad\.yaml:8:"):
+        littoral.check_scene(str(bad))
+    good = tmp_path / "good.yaml"
+    good.write_text(SCENE)
+    assert "1 sensor(s), 1 probe(s)" in littoral.check_scene(str(good))
+
+
+def test_a_run_writes_what_the_command_writes(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(SCENE)
+    cli("run", str(scene), "--out", str(tmp_path / "cli"))
+    summary = littoral.run(scene, tmp_path / "py", progress=False)
+    assert "rendered 1 sensor(s)" in summary
+    # (The EXR header carries the time it was written, so its pixels are compared instead.)
+    for name in ["cam.img", "cam.hdr", "cam_rrs.img", "cam_water_leaving.img", "cam_ed0.img", "probes.csv", "probes.json"]:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    np.testing.assert_array_equal(littoral.read_image(tmp_path / "py" / "cam.exr").data,
+                                  littoral.read_image(tmp_path / "cli" / "cam.exr").data)
+    img = littoral.read_image(tmp_path / "py" / "cam.img")
+    assert img.data.shape == (2, 6, 8) and img.data.dtype == np.float32
+    np.testing.assert_allclose(img.wavelengths_um, [0.475, 0.575])
+    assert img.units == "W m^-2 sr^-1 um^-1"
+    exr = littoral.read_image(tmp_path / "py" / "cam.exr")
+    np.testing.assert_array_equal(exr.data, img.data)
+    p = littoral.read_products(tmp_path / "py", "cam")
+    parts = p["water_leaving"].data + p["sky_reflected"].data + p["glint"].data + p["other"].data
+    np.testing.assert_allclose(parts, img.data, rtol=1e-6)
+    assert p["rrs"].units == "sr^-1" and p["ed0"].units == "W m^-2 um^-1"
+    probes = {q["quantity"]: q for q in littoral.read_probes(tmp_path / "py")}
+    assert probes["Rrs"]["units"] == "sr^-1" and probes["Rrs"]["value"].shape == (2,)
+    # The probe 1 m up reads the open sky and sun: E cos 30 + pi L, within its standard error.
+    assert probes["Ed"]["value"][0] == pytest.approx(1000 * np.cos(np.radians(30)) + np.pi * 20,
+                                                     abs=4 * probes["Ed"]["stderr"][0] + 1e-3)
+
+
+def test_a_failed_run_leaves_nothing(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(SCENE.replace("water_products: true", "water_products: true, medium: water"))
+    with pytest.raises(littoral.InputError, match="water_products needs a sensor in the air"):
+        littoral.run(scene, tmp_path / "out", progress=False)
+    assert not (tmp_path / "out" / "cam.img").exists()
+
+
+def test_the_example_runs_and_plots(tmp_path):
+    example = os.path.join(SOURCE, "python", "examples", "rrs_three_depths.py")
+    r = subprocess.run([sys.executable, example, "--quick", "--out", str(tmp_path)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert (tmp_path / "rrs_three_depths.png").stat().st_size > 10000
+    csv = (tmp_path / "rrs_three_depths.csv").read_text().splitlines()
+    assert csv[0] == "depth_m,wavelength_um,rrs_per_sr"
+    rows = [tuple(map(float, line.split(","))) for line in csv[1:]]
+    by_depth = {}
+    for d, w, v in rows:
+        by_depth.setdefault(d, []).append(v)
+    # Over a bright sand bottom the shallow water is the brightest at every wavelength.
+    depths = sorted(by_depth)
+    assert len(depths) == 3
+    assert all(a > b for a, b in zip(by_depth[depths[0]], by_depth[depths[-1]]))
