@@ -22,6 +22,11 @@ double compassDeg(double dx, double dy, double northAzimuthDeg) {
 
 }  // namespace
 
+bathymetry::GeoFrame geoFrameOf(const ir::GeoReference& g) {
+    return g.frame == "utm" ? bathymetry::GeoFrame::utm(g.latitudeDeg, g.longitudeDeg, g.altitudeM, g.utmZone)
+                            : bathymetry::GeoFrame::localCartesian(g.latitudeDeg, g.longitudeDeg, g.altitudeM);
+}
+
 std::vector<std::string> geoLayerNames() {
     return {"latitude_deg", "longitude_deg", "view_zenith_deg", "view_azimuth_deg", "sun_zenith_deg", "sun_azimuth_deg"};
 }
@@ -48,9 +53,7 @@ std::vector<std::filesystem::path> writeGeoLayers(const ir::SceneIR& ir, const r
             continue;
         }
         const ir::GeoReference& g = *ir.geo;
-        const bathymetry::GeoFrame frame = g.frame == "utm"
-                                               ? bathymetry::GeoFrame::utm(g.latitudeDeg, g.longitudeDeg, g.altitudeM, g.utmZone)
-                                               : bathymetry::GeoFrame::localCartesian(g.latitudeDeg, g.longitudeDeg, g.altitudeM);
+        const bathymetry::GeoFrame frame = geoFrameOf(g);
         const render::Camera cam(*sensor);
         const int w = img.truth.width, h = img.truth.height;
         const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);

@@ -11,10 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "bathymetry/geo_frame.h"
 #include "core/scene_ir.h"
 #include "render/render_job.h"
 
 namespace littoral::pipelines {
+
+// The scene frame of an IR geo reference (local-cartesian or utm; bathymetry/geo_frame.h).
+bathymetry::GeoFrame geoFrameOf(const ir::GeoReference& g);
 
 // Where a sensor's image lies in the scene's projected CRS (pipelines/lib_geotiff.cpp): UTM for a
 // `utm` frame, the ellipsoidal orthographic projection about the origin (east and north in the

@@ -31,11 +31,6 @@ namespace {
 
 constexpr int kGcpGrid = 9;  // ground control points per image side for oblique views
 
-bathymetry::GeoFrame frameOf(const ir::GeoReference& g) {
-    return g.frame == "utm" ? bathymetry::GeoFrame::utm(g.latitudeDeg, g.longitudeDeg, g.altitudeM, g.utmZone)
-                            : bathymetry::GeoFrame::localCartesian(g.latitudeDeg, g.longitudeDeg, g.altitudeM);
-}
-
 OGRSpatialReference crsOf(const ir::GeoReference& g, const bathymetry::GeoFrame& frame) {
     OGRSpatialReference srs;
     srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -55,7 +50,7 @@ OGRSpatialReference crsOf(const ir::GeoReference& g, const bathymetry::GeoFrame&
 // From the scene frame's plane z = 0 to the CRS: through WGS84, point by point.
 class PlaneToCrs {
 public:
-    PlaneToCrs(const ir::GeoReference& g) : frame_(frameOf(g)), crs_(crsOf(g, frame_)) {
+    PlaneToCrs(const ir::GeoReference& g) : frame_(geoFrameOf(g)), crs_(crsOf(g, frame_)) {
         wgs84_.SetWellKnownGeogCS("WGS84");
         wgs84_.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
         ct_.reset(OGRCreateCoordinateTransformation(&wgs84_, &crs_));

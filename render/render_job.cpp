@@ -186,7 +186,7 @@ void writeWaterProducts(const SensorImage& img, const std::filesystem::path& out
                         const std::vector<std::string>& files, const std::string& description, const EnviFields& envi) {
     struct Product {
         const char* what;
-        EnviFields quantity;
+        EnviFields fields;
     };
     const std::vector<Product> products = {
         {"water-leaving radiance", {"water-leaving radiance Lw", kEnviRadianceUnits}},
@@ -208,9 +208,11 @@ void writeWaterProducts(const SensorImage& img, const std::filesystem::path& out
         rrs.pixels[k] = e > 0 ? p.waterLeaving.pixels[k] / e : std::numeric_limits<float>::quiet_NaN();
     }
     const Film* films[] = {&p.waterLeaving, &p.skyReflected, &p.glint, &p.other, &p.ed0, &rrs};
-    for (size_t k = 0; k < products.size(); ++k)
-        writeEnvi(outDir / files[13 + 2 * k], *films[k], description,
-                  EnviFields{products[k].quantity.quantity, products[k].quantity.units, envi.extraHeader});
+    for (size_t k = 0; k < products.size(); ++k) {
+        EnviFields fields = products[k].fields;
+        fields.extraHeader = envi.extraHeader;  // the sensor's georeferencing, as on its radiance
+        writeEnvi(outDir / files[13 + 2 * k], *films[k], description, fields);
+    }
 }
 
 // Bands with a spectral response: the images and probe values over the internal sub-bands become
@@ -245,10 +247,10 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         // S_legend.csv, S_psf.exr, S_noisy.exr, S_detector.json (the sensor model).
         const std::vector<std::string> files = sensorOutputFiles(img.sensor);
         writeExr(outDir / files[0], img.film, meta);
+        const std::string description = fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor);
         EnviFields envi;
         if (opts.enviHeaderLines) envi.extraHeader = opts.enviHeaderLines(ir, *ir.findSensor(img.sensor));
-        writeEnvi(outDir / files[1], img.film, fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor),
-                  envi);
+        writeEnvi(outDir / files[1], img.film, description, envi);
         PreviewOptions po = opts.preview;
         if (img.film.bandCount() < 3) po.mapping = PreviewOptions::Mapping::Grey;
         if (po.mapping == PreviewOptions::Mapping::Grey) po.greyUm = img.film.bands[0].center();
@@ -256,8 +258,7 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
         writeTruthExr(outDir / files[4], img.truth, materialNames);
         writeMaterialIdPng(outDir / files[5], img.truth);
         writeTextFileAtomic(outDir / files[7], truthLegendCsv(img.truth, materialNames, materialTypes));
-        writeOptionalOutputs(*ir.findSensor(img.sensor), img, outDir, files, meta,
-                             fmt::format("Littoral render of scene {} sensor {}", ir.name, img.sensor), envi, opts);
+        writeOptionalOutputs(*ir.findSensor(img.sensor), img, outDir, files, meta, description, envi, opts);
         for (const std::string& f : files)
             if (std::filesystem::exists(outDir / f)) res.written.push_back(outDir / f);
     }

@@ -275,7 +275,7 @@ void checkWaterProducts(const Scene& scene, const ir::Sensor& sensor, int medium
         throw InputError(fmt::format("sensor '{}': water_products needs a sensor in the air (it is in medium '{}'): the "
                                      "products split what reaches a sensor above the sea surface",
                                      sensor.name, mediumName(scene, medium)));
-    if (scene.media().size() < 2)
+    if (waterMediumIndex(scene) < 0)
         throw InputError(fmt::format("sensor '{}': water_products needs a water medium (the scene has none): the "
                                      "products split the radiance where it meets the sea surface",
                                      sensor.name));
