@@ -1,5 +1,5 @@
-// Elevation rasters: ESRI ASCII grids (own parser) and TIFF/GeoTIFF (pixels via OpenImageIO,
-// georeferencing via geotiff_tags), interpolated bilinearly between sample centres.
+// Elevation rasters: ESRI ASCII grids (own parser) and everything GDAL reads (gdal_raster.cpp),
+// placed in the local frame and interpolated bilinearly between sample centres.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -10,28 +10,22 @@
 #include <optional>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
-#include "bathymetry/geotiff_tags.h"
+#include "bathymetry/geo_frame.h"
 #include "bathymetry/param_check.h"
+#include "bathymetry/raster_source.h"
 #include "bathymetry/terrain.h"
 #include "core/atomic_file.h"
 #include "core/resource_limits.h"
-#include "core/stderr_capture.h"
 #include "core/suggest.h"
 
 namespace littoral::bathymetry {
 
 namespace {
 
-// A regular grid of samples; row 0 is the northernmost. Sample (i, j) sits at
-// x = xc0 + i dx, y = yTop - j dy (sample centres).
-struct Grid {
-    long nx = 0, ny = 0;
-    double xc0 = 0, yTop = 0, dx = 1, dy = 1;
-    std::vector<double> z;  // row-major, metres after scale/offset
-};
+using detail::Grid;
+using detail::SourceRaster;
 
 class RasterTerrain final : public Terrain {
 public:
@@ -240,164 +234,139 @@ Grid parseAsciiGrid(std::string_view text, const std::string& file) {
     return g;
 }
 
-// Native-typed pixel values of one channel, converted to double without OIIO's normalisation
-// of integer types (an int16 DEM holds metres, not fractions of 32767).
-std::vector<double> readChannel(OIIO::ImageInput& in, const std::filesystem::path& path, int channel) {
-    const OIIO::ImageSpec& spec = in.spec();
-    const size_t n = size_t(spec.width) * size_t(spec.height);
-    OIIO::TypeDesc t = spec.format;
-    std::vector<double> out(n);
-    const auto readAs = [&](auto tag, OIIO::TypeDesc td) {
-        using T = decltype(tag);
-        std::vector<T> buf(n);
-        if (!in.read_image(0, 0, channel, channel + 1, td, buf.data()))
-            throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in.geterror()));
-        for (size_t k = 0; k < n; ++k) out[k] = static_cast<double>(buf[k]);
-    };
-    switch (t.basetype) {
-        case OIIO::TypeDesc::UINT8: readAs(uint8_t{}, OIIO::TypeDesc::UINT8); break;
-        case OIIO::TypeDesc::INT8: readAs(int8_t{}, OIIO::TypeDesc::INT8); break;
-        case OIIO::TypeDesc::UINT16: readAs(uint16_t{}, OIIO::TypeDesc::UINT16); break;
-        case OIIO::TypeDesc::INT16: readAs(int16_t{}, OIIO::TypeDesc::INT16); break;
-        case OIIO::TypeDesc::UINT32: readAs(uint32_t{}, OIIO::TypeDesc::UINT32); break;
-        case OIIO::TypeDesc::INT32: readAs(int32_t{}, OIIO::TypeDesc::INT32); break;
-        default: readAs(double{}, OIIO::TypeDesc::DOUBLE); break;  // half, float, double
+// An ESRI ASCII grid as a source raster in its file's coordinates, with the .prj's system if any.
+SourceRaster asciiSource(Grid g, const std::filesystem::path& path) {
+    SourceRaster src;
+    src.nx = g.nx;
+    src.ny = g.ny;
+    src.gt = {g.xc0 - 0.5 * g.dx, g.dx, 0, g.yTop + 0.5 * g.dy, 0, -g.dy};
+    src.hasGeotransform = true;
+    src.z = std::move(g.z);
+    src.format = "ESRI ASCII grid";
+    detail::readPrjSidecar(path, src);
+    return src;
+}
+
+// Every sample of a raster placed sample for sample must be a finite elevation.
+void checkComplete(const SourceRaster& src, const std::string& file) {
+    for (size_t k = 0; k < src.missing.size(); ++k) {
+        if (!src.missing[k]) continue;
+        const double v = src.z[k];
+        const bool isNodata = src.nodata && (std::isnan(*src.nodata) ? std::isnan(v) : v == *src.nodata);
+        throw InputError(SourceLoc{file},
+                         fmt::format("pixel (column {}, row {}; counted from 1, row 1 = north), channel {} is {} ({}); "
+                                     "every sample must be a finite elevation: the terrain must be complete, fill "
+                                     "holes before loading",
+                                     k % size_t(src.nx) + 1, k / size_t(src.nx) + 1, src.channel,
+                                     isNodata ? "NODATA" : "not finite", v));
     }
-    return out;
 }
 
-// The samples of the raster's channel `opt.channel`, row-major from the north; sets the grid's size.
-std::vector<double> readImageSamples(const std::filesystem::path& path, const RasterOptions& opt, Grid& g) {
-    // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
-    return quietLibraryCall([&] {
-        const std::string file = path.string();
-        noteInput(file);  // no output may replace it
-        auto in = OIIO::ImageInput::open(file);
-        if (!in)
-            throw InputError(SourceLoc{file}, "not a readable elevation raster (TIFF/GeoTIFF, ESRI ASCII grid, or another "
-                                              "image format OpenImageIO reads): " + libraryMessage(OIIO::geterror()));
-        const OIIO::ImageSpec& spec = in->spec();
-        if (spec.width < 2 || spec.height < 2 || spec.depth > 1)
-            throw InputError(SourceLoc{file}, fmt::format("raster is {} x {} x {}; need a 2D grid of at least 2 x 2",
-                                                          spec.width, spec.height, spec.depth));
-        if (opt.channel < 0 || opt.channel >= spec.nchannels)
-            throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} channel(s) (0..{})",
-                                                          opt.channel, spec.nchannels, spec.nchannels - 1));
-        // Decoding holds the samples twice (the file's type, then double): refuse before allocating.
-        requireMemory(16.0 * double(spec.width) * double(spec.height),
-                      fmt::format("an elevation raster of {} x {} samples would", spec.width, spec.height), SourceLoc{file});
-        g.nx = spec.width;
-        g.ny = spec.height;
-        std::vector<double> raw = readChannel(*in, path, opt.channel);
-        in->close();
-        return raw;
-    });
-}
-
-// With opt.utmZone set (the raster is placed by the scene's UTM frame), the projected system the
-// GeoTIFF declares, if any, must be UTM in that zone and hemisphere.
-void checkUtmZone(const GeoTiffInfo& geo, const RasterOptions& opt, const std::string& file) {
-    if (opt.utmZone == 0 || geo.projectedCrs == 0) return;
-    const int c = geo.projectedCrs;
-    int zone = 0;
-    bool north = true;
-    std::string datum = "WGS 84";
-    if (c >= 32601 && c <= 32660) zone = c - 32600;
-    else if (c >= 32701 && c <= 32760) zone = c - 32700, north = false;
-    else if (c >= 26901 && c <= 26923) zone = c - 26900, datum = "NAD83";
-    const std::string scene = fmt::format("UTM zone {}{}", opt.utmZone, opt.utmNorth ? 'N' : 'S');
-    if (zone == 0)
-        throw InputError(SourceLoc{file}, fmt::format("the GeoTIFF declares the projected system EPSG:{}, which is not "
-                                                      "UTM; origin: scene places a raster in the scene's frame ({}): "
-                                                      "reproject it to {}, or give origin_x_m and origin_y_m in its "
-                                                      "own system",
-                                                      c, scene, scene));
-    if (zone != opt.utmZone || north != opt.utmNorth)
-        throw InputError(SourceLoc{file}, fmt::format("the GeoTIFF is in {} / UTM zone {}{} (EPSG:{}), but the scene's "
-                                                      "frame is {} (from scene.origin); reproject the raster to {}",
-                                                      datum, zone, north ? 'N' : 'S', c, scene, scene));
-}
-
-// Sample spacing and origin from the GeoTIFF tags (north-up, projected in metres), in the local
-// frame of opt.originX/Y.
-void georeference(const GeoTiffInfo& geo, const RasterOptions& opt, const std::string& file, Grid& g) {
-    if (geo.modelType == 2)
-        throw InputError(SourceLoc{file}, "the GeoTIFF is in geographic coordinates (degrees, GTModelType 2); "
-                                          "reproject it to a projected system in metres (e.g. UTM) or give an "
-                                          "extent in the local frame");
-    if (geo.modelType == 3)
-        throw InputError(SourceLoc{file}, "the GeoTIFF is geocentric (GTModelType 3); a projected system in metres "
-                                          "is required");
-    // Raster (I, J) -> model (X, Y): X = a I + b J + d, Y = e I + f J + h (GeoTIFF 1.1, 7.3).
-    double a, b, d, e, f, h;
-    if (geo.transformation) {
-        const auto& m = *geo.transformation;
-        a = m[0]; b = m[1]; d = m[3]; e = m[4]; f = m[5]; h = m[7];
-    } else {
-        const auto& s = *geo.pixelScale;
-        const auto& tp = geo.tiepoints;  // first tie point anchors the grid
-        a = s[0]; b = 0; e = 0; f = -s[1];
-        d = tp[3] - tp[0] * s[0];
-        h = tp[4] + tp[1] * s[1];
-    }
-    if (b != 0 || e != 0)
-        throw InputError(SourceLoc{file}, "the GeoTIFF grid is rotated (ModelTransformation has shear terms); "
-                                          "only north-up rasters are supported");
-    if (!(a > 0) || !(f < 0))
-        throw InputError(SourceLoc{file}, fmt::format("GeoTIFF pixel size ({}, {}) must be positive in x and "
-                                                      "negative in y (north-up)", a, f));
-    checkUtmZone(geo, opt, file);
-    const double c = geo.rasterType == 2 ? 0.0 : 0.5;  // PixelIsPoint vs PixelIsArea centres
-    g.dx = a;
-    g.dy = -f;
-    g.xc0 = a * c + d - opt.originX;
-    g.yTop = f * c + h - opt.originY;
-}
-
-// Every sample must be finite and not the GDAL NODATA value.
-void checkComplete(const std::vector<double>& raw, const GeoTiffInfo& geo, const Grid& g, const std::string& file,
-                   int channel) {
-    std::optional<double> nodata;
-    if (geo.gdalNodata) {
-        double v;
-        if (lower(*geo.gdalNodata) == "nan") nodata = std::numeric_limits<double>::quiet_NaN();
-        else if (parseDouble(*geo.gdalNodata, &v)) nodata = v;
-    }
-    for (long j = 0; j < g.ny; ++j)
-        for (long i = 0; i < g.nx; ++i) {
-            const double v = raw[size_t(j) * size_t(g.nx) + size_t(i)];
-            const bool isNodata = nodata && (std::isnan(*nodata) ? std::isnan(v) : v == *nodata);
-            if (isNodata || !std::isfinite(v))
-                throw InputError(SourceLoc{file},
-                                 fmt::format("pixel (column {}, row {}; counted from 1, row 1 = north), channel {} is "
-                                             "{} ({}); every sample must be a finite elevation: the terrain must be "
-                                             "complete, fill holes before loading",
-                                             i + 1, j + 1, channel, isNodata ? "NODATA" : "not finite", v));
-        }
-}
-
-Grid readImage(const std::filesystem::path& path, const RasterOptions& opt) {
-    const std::string file = path.string();
-    const GeoTiffInfo geo = readGeoTiffInfo(path);  // also reports a missing file clearly
+// The caller's extent: the rectangle spanned by the sample centres.
+Grid byExtent(SourceRaster src, const Extent& e, const std::string& file) {
+    checkComplete(src, file);
     Grid g;
-    std::vector<double> raw = readImageSamples(path, opt, g);
-    if (opt.extent) {
-        // Caller's extent: the rectangle spanned by the sample centres.
-        g.dx = opt.extent->width() / double(g.nx - 1);
-        g.dy = opt.extent->height() / double(g.ny - 1);
-        g.xc0 = opt.extent->x0;
-        g.yTop = opt.extent->y1;
-    } else if (geo.hasGeoreferencing()) {
-        georeference(geo, opt, file, g);
-    } else {
-        throw InputError(SourceLoc{file}, "raster has no georeferencing (no GeoTIFF ModelPixelScale/ModelTiepoint or "
-                                          "ModelTransformation); give its extent in the local frame");
-    }
-    checkComplete(raw, geo, g, file, opt.channel);
-    g.z = std::move(raw);
+    g.nx = src.nx;
+    g.ny = src.ny;
+    g.dx = e.width() / double(g.nx - 1);
+    g.dy = e.height() / double(g.ny - 1);
+    g.xc0 = e.x0;
+    g.yTop = e.y1;
+    g.z = std::move(src.z);
     return g;
 }
 
+// A raster stored south row first (positive y step, as NetCDF often is) turned north-up.
+void flipToNorthUp(SourceRaster& src) {
+    if (src.gt[5] <= 0 || src.gt[2] != 0 || src.gt[4] != 0) return;
+    const size_t w = size_t(src.nx);
+    for (long j = 0; j < src.ny / 2; ++j) {
+        const size_t a = size_t(j) * w, b = size_t(src.ny - 1 - j) * w;
+        std::swap_ranges(src.z.begin() + long(a), src.z.begin() + long(a + w), src.z.begin() + long(b));
+        if (!src.missing.empty())
+            for (size_t i = 0; i < w; ++i) {
+                const bool t = src.missing[a + i];
+                src.missing[a + i] = src.missing[b + i];
+                src.missing[b + i] = t;
+            }
+    }
+    src.gt[3] += double(src.ny) * src.gt[5];
+    src.gt[5] = -src.gt[5];
+}
+
+// The samples of a north-up grid whose cells reach `clip` grown by two cells: the rest is
+// dropped (with any NODATA it holds). A clip the grid misses keeps the grid whole, for the
+// domain check to report.
+void cropTo(const Extent& clip, Grid& g, SourceRaster& src) {
+    const auto lo = [](double v) { return static_cast<long>(std::floor(v)); };
+    const long i0 = std::max(0L, lo((clip.x0 - g.xc0) / g.dx) - 2);
+    const long i1 = std::min(g.nx - 1, lo((clip.x1 - g.xc0) / g.dx) + 3);
+    const long j0 = std::max(0L, lo((g.yTop - clip.y1) / g.dy) - 2);
+    const long j1 = std::min(g.ny - 1, lo((g.yTop - clip.y0) / g.dy) + 3);
+    if (i1 - i0 < 1 || j1 - j0 < 1 || (i0 == 0 && j0 == 0 && i1 == g.nx - 1 && j1 == g.ny - 1)) return;
+    std::vector<double> z;
+    std::vector<bool> missing;
+    z.reserve(size_t(i1 - i0 + 1) * size_t(j1 - j0 + 1));
+    for (long j = j0; j <= j1; ++j)
+        for (long i = i0; i <= i1; ++i) {
+            const size_t k = size_t(j) * size_t(g.nx) + size_t(i);
+            z.push_back(src.z[k]);
+            if (!src.missing.empty()) missing.push_back(src.missing[k]);
+        }
+    src.z = std::move(z);
+    src.missing = std::move(missing);
+    g.xc0 += double(i0) * g.dx;
+    g.yTop -= double(j0) * g.dy;
+    g.nx = src.nx = i1 - i0 + 1;
+    g.ny = src.ny = j1 - j0 + 1;
+}
+
+// The file's north-up grid in a projected system in metres, less the local origin (ox, oy); cut
+// to opt.clip if given.
+Grid byOffset(SourceRaster src, double ox, double oy, const RasterOptions& opt, const std::string& file) {
+    if (!src.hasGeotransform)
+        throw InputError(SourceLoc{file}, fmt::format("the {} has no georeferencing (no GeoTIFF ModelPixelScale/"
+                                                      "ModelTiepoint or ModelTransformation, no geotransform); give "
+                                                      "its extent in the local frame",
+                                                      src.format));
+    std::string why;
+    if (!detail::isProjectedMetres(src, &why))
+        throw InputError(SourceLoc{file}, fmt::format("the {} cannot be placed by shifting its coordinates: {}; give "
+                                                      "origin: scene (with scene.origin), which reprojects it into "
+                                                      "the scene frame, or an extent in the local frame",
+                                                      src.format, why));
+    if (src.gt[2] != 0 || src.gt[4] != 0)
+        throw InputError(SourceLoc{file}, fmt::format("the {} grid is rotated (its geotransform has shear terms); give "
+                                                      "origin: scene, which resamples it north-up into the scene "
+                                                      "frame",
+                                                      src.format));
+    flipToNorthUp(src);
+    if (!(src.gt[1] > 0) || !(src.gt[5] < 0))
+        throw InputError(SourceLoc{file}, fmt::format("{} pixel size ({}, {}) must be positive in x and negative in y "
+                                                      "(north-up)",
+                                                      src.format, src.gt[1], src.gt[5]));
+    Grid g;
+    g.nx = src.nx;
+    g.ny = src.ny;
+    g.dx = src.gt[1];
+    g.dy = -src.gt[5];
+    g.xc0 = src.gt[0] + 0.5 * src.gt[1] - ox;
+    g.yTop = src.gt[3] + 0.5 * src.gt[5] - oy;
+    if (opt.clip) cropTo(*opt.clip, g, src);
+    checkComplete(src, file);
+    g.z = std::move(src.z);
+    return g;
+}
+
+// Placement rules 1–3 of terrain.h.
+Grid place(SourceRaster src, const RasterOptions& opt, const std::string& file) {
+    if (opt.extent) return byExtent(std::move(src), *opt.extent, file);
+    if (!opt.frame) return byOffset(std::move(src), opt.originX, opt.originY, opt, file);
+    if (detail::isFramesUtm(src, *opt.frame))
+        return byOffset(std::move(src), opt.frame->originUtm().easting, opt.frame->originUtm().northing, opt,
+                        file);
+    return detail::resampleIntoFrame(src, *opt.frame, opt, file);
+}
 // z = zScale * value + zOffset for every sample, which must then be an elevation on Earth: a sample
 // far outside (3.4e38 is a common undeclared NODATA value of float rasters) would make a seabed
 // thousands of kilometres deep, or an infinite one after scaling.
@@ -456,22 +425,10 @@ std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const Ras
         throw InputError(SourceLoc{path.string()}, "elevation raster not found");
     if (!std::filesystem::is_regular_file(path))
         throw InputError(SourceLoc{path.string()}, "elevation raster is not a regular file");
-    Grid g;
-    if (looksLikeAsciiGrid(path)) {
-        g = parseAsciiGrid(readTextFile(path), path.string());
-        if (opt.extent) {
-            // An explicit extent overrides the header's georeferencing (sample-centre rectangle).
-            g.dx = opt.extent->width() / double(g.nx - 1);
-            g.dy = opt.extent->height() / double(g.ny - 1);
-            g.xc0 = opt.extent->x0;
-            g.yTop = opt.extent->y1;
-        } else {
-            g.xc0 -= opt.originX;
-            g.yTop -= opt.originY;
-        }
-    } else {
-        g = readImage(path, opt);
-    }
+    const std::string file = path.string();
+    SourceRaster src = looksLikeAsciiGrid(path) ? asciiSource(parseAsciiGrid(readTextFile(path), file), path)
+                                                : detail::readGdalRaster(file, file, opt);
+    Grid g = place(std::move(src), opt, file);
     scaleElevations(g, opt, path.string());
     return std::make_unique<RasterTerrain>(std::move(g), path.filename().string());
 }

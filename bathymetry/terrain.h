@@ -8,7 +8,7 @@
 //   makePlanarSlope  – z = z0 + sx x + sy y
 //   makeDeanProfile  – Dean equilibrium profile h = A d^(2/3) offshore, beach face and berm onshore
 //   makeBarTrough    – Dean profile plus a Gaussian sandbar and a Gaussian trough
-//   loadRaster       – float TIFF / GeoTIFF (OpenImageIO) or ESRI ASCII grid, bilinear
+//   loadRaster       – GeoTIFF, BAG, NetCDF, ... (GDAL) or ESRI ASCII grid, bilinear
 //   fromSoundings    – CSV latitude,longitude,depth -> GeoFrame -> CGAL Delaunay TIN
 // Parameters are plain structs so the scene-file parser can fill them key by key; every
 // factory validates its parameters and raises InputError naming the field and the allowed range.
@@ -132,35 +132,44 @@ std::unique_ptr<Terrain> makeBarTrough(const Extent& extent, const BarTrough& p)
 
 // ---------------------------------------------------------------- rasters
 
-// Elevation raster: float/integer TIFF or GeoTIFF (via OpenImageIO), or ESRI ASCII grid (.asc,
-// .grd), chosen by content (an ASCII grid starts with "ncols"/"nrows"). Values are metres after
-// z = zScale * value + zOffset (zScale = -1 reads a depth-positive-down raster).
-// Georeferencing, first that applies:
-//   1. options.extent, if given: the rectangle spanned by the sample centres (first column at x0,
-//      last at x1; first row at y1 = north, last at y0).
-//   2. GeoTIFF tags ModelPixelScale + ModelTiepoint, or a north-up ModelTransformation, honouring
-//      GTRasterTypeGeoKey (pixel-is-area: sample centres half a pixel in from the tie point;
-//      pixel-is-point: at it); ASCII xllcorner/xllcenter, yllcorner/yllcenter, cellsize (or dx, dy).
-//      These are projected coordinates (e.g. UTM metres); the local frame is x = X - originX,
-//      y = Y - originY. A GeoTIFF in geographic degrees (GTModelType 2) or rotated is refused.
-//      With utmZone set, a GeoTIFF's declared projected system must be that UTM zone.
-//   A TIFF with neither is an InputError. The GDAL_NODATA tag and NODATA_value are honoured.
+// Elevation raster: any raster GDAL reads (GeoTIFF in any coordinate system, BAG, NetCDF, ENVI,
+// Erdas Imagine, Surfer grids, XYZ, 16-bit PNG), or an ESRI ASCII grid (.asc, .grd; own parser
+// with line/column errors; coordinate system from a .prj sidecar), chosen by content (an ASCII
+// grid starts with "ncols"/"nrows"). Values are metres after z = zScale * (band scale * value +
+// band offset) * unit + zOffset: a band in feet or US survey feet is converted; zScale = -1 reads
+// a depth-positive-down raster.
+// Placement in the local frame, first that applies:
+//   1. options.extent: the rectangle spanned by the sample centres (first column at x0, last at
+//      x1; first row at y1 = north, last at y0); the file's georeferencing is ignored.
+//   2. options.frame (scene file `origin: scene`): the file's coordinate system into the scene
+//      frame. A raster in the frame's own UTM zone (WGS 84 or GRS80, metres; or declaring no
+//      system while the frame is UTM) is shifted by the origin's easting/northing, sample for
+//      sample. Any other system (another zone, geographic degrees, a state plane in feet, a
+//      rotated grid, a local tangent-plane frame) is resampled bilinearly onto a north-up grid in
+//      the frame at the raster's own spacing, over its footprint within options.clip.
+//   3. otherwise the file's north-up geotransform less (originX, originY), for a raster in a
+//      projected system in metres (or none); geographic degrees, other units or a rotated grid
+//      are refused (use `origin: scene`). A raster with no georeferencing needs an extent.
+// NODATA (the band's value, NaN, infinity) in a sample kept (all of them, without clip), or in a
+// sample the resampled grid uses, is an InputError naming the pixel (and the file line for ASCII
+// grids): fill holes before loading.
 // Interpolation: bilinear between sample centres; extent() is the rectangle of sample centres and
-// queries outside it clamp to the nearest edge point. A NODATA sample anywhere is an InputError
-// naming the row and column (and the file line for ASCII grids): fill holes before loading.
+// queries outside it clamp to the nearest edge point.
 struct RasterOptions {
     std::optional<Extent> extent;  // overrides file georeferencing
     double originX = 0;            // projected coordinate of the local origin (file units, metres)
     double originY = 0;
     double zScale = 1;             // elevation = zScale * value + zOffset
     double zOffset = 0;            // m, e.g. datum to still-water level shift
-    int channel = 0;               // TIFF channel holding elevation
-    // The scene's UTM zone when originX/originY are the UTM origin of the scene's frame (scene
-    // file `origin: scene`); 0 = not set. A GeoTIFF that declares its projected system
-    // (ProjectedCSTypeGeoKey) must then be UTM in this zone and hemisphere: WGS 84 (EPSG 326zz
-    // north, 327zz south) or NAD83 (EPSG 269zz, north); another system is an InputError.
-    int utmZone = 0;
-    bool utmNorth = true;
+    int channel = 0;               // band holding elevation (0 = the first)
+    std::string variable;          // NetCDF/HDF variable (subdataset) holding elevation, if several
+    // The scene's frame (scene file `origin: scene`): the raster is placed by its coordinate
+    // system (see 2. above). Not owned; must outlive the call.
+    const GeoFrame* frame = nullptr;
+    // The part of the local frame the terrain must cover (the scene domain), if known: a raster
+    // placed by its georeferencing (rules 2 and 3) keeps only the samples whose cells reach it
+    // (plus two cells), so NODATA far away does not matter and a large survey costs little.
+    std::optional<Extent> clip;
 };
 std::unique_ptr<Terrain> loadRaster(const std::filesystem::path& path, const RasterOptions& options = {});
 // An ESRI ASCII grid already in memory, georeferenced by its own header; `file` names it in

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -318,6 +319,29 @@ long lockOwner(const std::string& path) {
 bool processRuns(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
 }  // namespace
 
+namespace {
+
+// Removes the temporaries "<stem>.tmp-<pid>-<n><ext>" that process `pid` (which no longer runs)
+// left under `dir` when it was killed before it could rename or remove them. Returns how many.
+size_t removeTemporariesOf(const fs::path& dir, long pid) {
+    const std::string tag = fmt::format(".tmp-{}-", pid);
+    size_t n = 0;
+    std::error_code ec;
+    for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const size_t at = name.find(tag);
+        if (at == std::string::npos || !it->is_regular_file(ec) || it->is_symlink(ec)) continue;
+        const size_t digits = at + tag.size();
+        if (digits >= name.size() || !std::isdigit(static_cast<unsigned char>(name[digits]))) continue;
+        std::error_code rm;
+        if (fs::remove(it->path(), rm)) ++n;
+    }
+    return n;
+}
+
+}  // namespace
+
 OutputFolderLock::OutputFolderLock(const fs::path& dir, std::string_view option) {
     checkOutputFolder(dir, option);  // the same messages as before any work (a file in the way, read-only)
     createOutputFolder(dir, option);
@@ -348,8 +372,10 @@ OutputFolderLock::OutputFolderLock(const fs::path& dir, std::string_view option)
                              fmt::format("{}another littoral command (process {}) is writing into this folder; wait "
                                          "for it to finish or choose another folder",
                                          prefix, owner));
-        log::warn("{}{}: taking over the lock of process {}, which no longer runs", prefix, dir.string(),
-                  owner > 0 ? std::to_string(owner) : std::string("(unknown)"));
+        const size_t litter = owner > 0 ? removeTemporariesOf(dir, owner) : 0;
+        log::warn("{}{}: taking over the lock of process {}, which no longer runs{}", prefix, dir.string(),
+                  owner > 0 ? std::to_string(owner) : std::string("(unknown)"),
+                  litter ? fmt::format(" (removed {} unfinished temporary file(s) it left)", litter) : std::string());
         ::unlink(path_.c_str());
     }
     throw InputError(SourceLoc{dir.string()}, prefix + "another command took the folder's lock at the same time");

@@ -19,6 +19,7 @@
 #include "core/mesh.h"
 #include "core/progress.h"
 #include "pipelines/lib_scene.h"
+#include "pipelines/lib_sweep.h"
 #include "pipelines/lib_waves.h"
 #include "render/estimator_settings.h"
 #include "render/image_output.h"
@@ -179,6 +180,25 @@ PYBIND11_MODULE(_littoral, m) {
           },
           py::arg("scene"), py::arg("out"), py::kw_only(), py::arg("sensor") = "", py::arg("threads") = 0,
           py::arg("progress") = true, "Build and render a scene file as `littoral run SCENE --out OUT` does");
+    m.def("sweep",
+          [](const std::string& scene, const std::string& out, const std::vector<std::string>& vary, int threads,
+             bool progress) {
+              pipelines::SweepOptions o;
+              o.scene = scene;
+              o.out = out;
+              o.vary = vary;
+              o.threads = threads;
+              o.progress = progress;
+              Progress::setEnabled(progress);
+              py::gil_scoped_release nogil;
+              OutputSet set;  // as the command: each finished run is published as it ends
+              const std::string summary = pipelines::runSweep(o);
+              set.commit();
+              return summary;
+          },
+          py::arg("scene"), py::arg("out"), py::arg("vary"), py::kw_only(), py::arg("threads") = 0,
+          py::arg("progress") = true,
+          "Run a grid of runs as `littoral sweep SCENE --vary KEY=V1,V2 ... --out OUT` does (vary: the KEY=V1,V2 strings)");
     m.def("read_envi", [](const std::string& path) { return filmDict(render::readEnvi(path)); }, py::arg("path"));
     m.def("read_exr", [](const std::string& path) { return filmDict(render::readExr(path)); }, py::arg("path"));
 }

@@ -31,22 +31,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// A raster's options, with the local origin taken from the scene's UTM frame for `origin: scene`.
-bathymetry::RasterOptions rasterOptions(const BathymetrySpec& b, const bathymetry::GeoFrame* frame) {
+// A raster's options: the domain it must cover (the samples beyond are dropped) and, for `origin:
+// scene`, the scene's frame, into which the raster is placed by its coordinate system.
+bathymetry::RasterOptions rasterOptions(const BathymetrySpec& b, const bathymetry::GeoFrame* frame,
+                                        const bathymetry::Extent& domain) {
     bathymetry::RasterOptions o = b.raster;
+    o.clip = domain;
     if (!b.rasterOriginFromScene) return o;
     if (!frame)
         throw InputError(b.rasterOriginLoc, "bathymetry.origin: 'scene' takes the raster's offset from scene.origin, "
                                             "which this scene does not give (latitude, longitude)");
-    if (frame->kind() != bathymetry::GeoFrame::Kind::Utm)
-        throw InputError(b.rasterOriginLoc,
-                         "bathymetry.origin: 'scene' places a projected (UTM) raster in the scene's UTM frame, but the "
-                         "frame is the local tangent plane; set bathymetry.frame: utm (objects and soundings given by "
-                         "latitude/longitude then use the same projection as the raster)");
-    o.originX = frame->originUtm().easting;
-    o.originY = frame->originUtm().northing;
-    o.utmZone = frame->zone();
-    o.utmNorth = frame->originUtm().north;
+    o.frame = frame;
     return o;
 }
 
@@ -69,7 +64,8 @@ void checkRasterCoversDomain(const BathymetrySpec& b, const bathymetry::Terrain&
                           gap >= 1000 ? fmt::format("{:.4g} km", gap / 1000) : fmt::format("{:.4g} m", gap));
         msg += b.raster.extent ? "; give an extent that contains the domain"
                                : "; a georeferenced raster needs the projected coordinates of the local origin: "
-                                 "origin: scene (from scene.origin, with frame: utm) or origin_x_m and origin_y_m";
+                                 "origin: scene (reprojected from its coordinate system through scene.origin) or "
+                                 "origin_x_m and origin_y_m";
     } else {
         msg = fmt::format("bathymetry.{}: {}, which it covers only in part; beyond the raster the seabed would repeat "
                           "the raster's edge values: use a raster that covers the domain, or a smaller scene.domain",
@@ -85,7 +81,7 @@ std::unique_ptr<bathymetry::Terrain> makeTerrain(const BathymetrySpec& b, const 
             case BathymetrySpec::Kind::PlanarSlope: return bathymetry::makePlanarSlope(extent, b.planar);
             case BathymetrySpec::Kind::Dean: return bathymetry::makeDeanProfile(extent, b.dean);
             case BathymetrySpec::Kind::BarTrough: return bathymetry::makeBarTrough(extent, b.barTrough);
-            case BathymetrySpec::Kind::Raster: return bathymetry::loadRaster(b.file, rasterOptions(b, frame));
+            case BathymetrySpec::Kind::Raster: return bathymetry::loadRaster(b.file, rasterOptions(b, frame, extent));
             case BathymetrySpec::Kind::Soundings:
                 if (!frame) throw InputError(b.loc, "bathymetry from soundings needs scene.origin (latitude, longitude)");
                 return bathymetry::fromSoundings(b.file, *frame, b.soundings);

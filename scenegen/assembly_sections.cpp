@@ -101,7 +101,8 @@ BathymetrySpec parseBathymetry(const YamlNode& n) {
         keys.insert(keys.end(), kBarKeys.begin(), kBarKeys.end());
     } else if (type == "raster") {
         keys.insert(keys.end(),
-                    {"file", "extent", "origin", "origin_x_m", "origin_y_m", "z_scale", "z_offset_m", "channel"});
+                    {"file", "extent", "origin", "origin_x_m", "origin_y_m", "z_scale", "z_offset_m", "channel",
+                     "variable"});
     } else {
         keys.insert(keys.end(), {"file", "outside_hull", "merge_distance_m", "constraint_z_m"});
     }
@@ -139,6 +140,7 @@ BathymetrySpec parseBathymetry(const YamlNode& n) {
         if (b.raster.zScale == 0) n["z_scale"].fail("z_scale must not be 0");
         b.raster.zOffset = n.getDouble("z_offset_m", 0, -1e4, 1e4, "m");
         b.raster.channel = static_cast<int>(n.getInt("channel", 0, 0, 64));
+        b.raster.variable = n.getString("variable", "");
     } else {
         b.kind = BathymetrySpec::Kind::Soundings;
         b.file = n["file"].asExistingPath();

@@ -413,6 +413,7 @@ std::string YamlNode::asOutputName(std::string_view what) const {
 
 fs::path YamlNode::asPath() const {
     const fs::path p(asString());
+    doc_->pathNodes.push_back(node_);
     return p.is_absolute() ? p : doc_->baseDir / p;
 }
 

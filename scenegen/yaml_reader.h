@@ -72,10 +72,18 @@ public:
 
     [[noreturn]] void fail(const std::string& message) const;
 
+    // The yaml-cpp node itself. yaml-cpp nodes are handles: assigning through the returned node
+    // changes this document (`littoral sweep` sets the values it varies this way, then parses).
+    YAML::Node yaml() const { return node_; }
+    // Every scalar of this document that a parser has read as a file path (asPath, asExistingPath),
+    // in reading order, for rewriting them as absolute paths (a sweep's self-contained scene files).
+    std::vector<YAML::Node> pathNodes() const { return doc_->pathNodes; }
+
 private:
     struct Doc {
         std::string file;
         std::filesystem::path baseDir;
+        mutable std::vector<YAML::Node> pathNodes;
     };
     YamlNode(std::shared_ptr<const Doc> doc, YAML::Node node, std::string path, SourceLoc loc);
     YamlNode child(const YAML::Node& n, std::string path) const;

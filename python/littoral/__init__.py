@@ -10,6 +10,7 @@ module), so a run here writes the same files, byte for byte, as `littoral run`.
     surface.stats                                 # the statistics of `littoral waves --stats`
     print(littoral.check_scene("scene.yaml"))     # raises littoral.InputError with file:line:col
     littoral.run("scene.yaml", "out")             # build + render, with a progress bar
+    littoral.sweep("scene.yaml", "study", vary={"sun.zenith_deg": [20, 40]})   # a grid of runs + index
     image = littoral.read_image("out/cam.img")    # data (bands, rows, cols), wavelengths, header
     probes = littoral.read_probes("out")          # probes.json as a list of dicts
 """
@@ -20,10 +21,11 @@ import numpy as np
 
 from ._littoral import InputError, WaveSurface, check_scene, read_envi as _read_envi, read_exr as _read_exr
 from ._littoral import run as _run
+from ._littoral import sweep as _sweep
 from ._littoral import waves as _waves
 
-__all__ = ["InputError", "WaveSurface", "Image", "waves", "check_scene", "run", "read_image", "read_probes",
-           "read_products", "PRODUCTS"]
+__all__ = ["InputError", "WaveSurface", "Image", "waves", "check_scene", "run", "sweep", "read_image",
+           "read_probes", "read_products", "PRODUCTS"]
 
 # The water-leaving products a sensor with `water_products: true` writes (docs/outputs.md).
 PRODUCTS = ("water_leaving", "sky_reflected", "glint", "other", "ed0", "rrs")
@@ -40,6 +42,22 @@ def waves(model="beaufort", **options):
 def run(scene, out, *, sensor="", threads=0, progress=True):
     """Build and render a scene file into `out`, as `littoral run SCENE --out OUT`; returns the summary."""
     return _run(os.fspath(scene), os.fspath(out), sensor=sensor, threads=threads, progress=progress)
+
+
+def _yaml_scalar(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+def sweep(scene, out, vary, *, threads=0, progress=True):
+    """A grid of runs, as `littoral sweep SCENE --vary KEY=V1,V2 ... --out OUT` (docs/sweeps.md).
+
+    `vary` maps each scene-file key (dotted, e.g. "water.surface.wind_speed") to its values; the
+    last key varies fastest. Returns the summary; the runs and index.csv / index.json are in `out`.
+    """
+    options = [f"{key}={','.join(_yaml_scalar(v) for v in values)}" for key, values in vary.items()]
+    return _sweep(os.fspath(scene), os.fspath(out), options, threads=threads, progress=progress)
 
 
 def _read_envi_header(path):

@@ -3,6 +3,7 @@
 Runs from CTest (python.pytest) with BUILD/python on PYTHONPATH; LITTORAL_BINARY_DIR names the
 build (for bin/littoral), LITTORAL_SOURCE_DIR the checkout.
 """
+import csv
 import json
 import os
 import subprocess
@@ -96,6 +97,29 @@ def test_a_run_writes_what_the_command_writes(tmp_path):
     # The probe 1 m up reads the open sky and sun: E cos 30 + pi L, within its standard error.
     assert probes["Ed"]["value"][0] == pytest.approx(1000 * np.cos(np.radians(30)) + np.pi * 20,
                                                      abs=4 * probes["Ed"]["stderr"][0] + 1e-3)
+
+
+def test_a_sweep_runs_its_grid_and_indexes_it(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(SCENE)
+    summary = littoral.sweep(scene, tmp_path / "study", vary={"sun.zenith_deg": [20, 40], "sky.radiance": [0, 20]},
+                             progress=False)
+    assert "sweep of 4 run(s)" in summary
+    rows = list(csv.DictReader(open(tmp_path / "study" / "index.csv")))
+    # The last key varies fastest.
+    assert [(r["sun.zenith_deg"], r["sky.radiance"], r["status"]) for r in rows] == [
+        ("20", "0", "done"), ("20", "20", "done"), ("40", "0", "done"), ("40", "20", "done")]
+    # Run 0003 is the scene with both values set: the command's run of its own scene.yaml gives the same bytes.
+    run = tmp_path / "study" / rows[3]["folder"]
+    cli("run", str(run / "scene.yaml"), "--out", str(tmp_path / "single"))
+    for name in ["cam.img", "probes.json"]:
+        assert (run / name).read_bytes() == (tmp_path / "single" / name).read_bytes(), name
+    # The sun at 40 degrees and the sky at 20 reach the probe 1 m up: E cos 40 + pi 20.
+    ed = {q["quantity"]: q for q in littoral.read_probes(run)}["Ed"]
+    assert ed["value"][0] == pytest.approx(1000 * np.cos(np.radians(40)) + np.pi * 20, abs=4 * ed["stderr"][0] + 1e-3)
+    index = json.loads((tmp_path / "study" / "index.json").read_text())
+    assert index["index"][3]["parameters"] == {"sun.zenith_deg": 40, "sky.radiance": 20}
+    assert f"{rows[3]['folder']}/cam.img" in index["index"][3]["outputs"]
 
 
 def test_a_failed_run_leaves_nothing(tmp_path):

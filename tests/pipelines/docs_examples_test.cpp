@@ -15,32 +15,9 @@
 namespace fs = std::filesystem;
 using namespace littoral::testing_support;
 
-namespace {
-
-std::vector<std::string> yamlBlocks(const fs::path& md) {
-    std::ifstream in(md);
-    std::vector<std::string> blocks;
-    std::string line, cur;
-    bool inside = false;
-    while (std::getline(in, line)) {
-        if (!inside && line.rfind("```yaml", 0) == 0) {
-            inside = true;
-            cur.clear();
-        } else if (inside && line.rfind("```", 0) == 0) {
-            inside = false;
-            blocks.push_back(cur);
-        } else if (inside) {
-            cur += line + "\n";
-        }
-    }
-    return blocks;
-}
-
-}  // namespace
-
 TEST(DocsExamples, SceneFormatExamplesAreValid) {
     const fs::path md = fs::path(LITTORAL_SOURCE_DIR) / "docs" / "scene-format.md";
-    const auto blocks = yamlBlocks(md);
+    const auto blocks = markdownBlocks(md, "yaml");
     ASSERT_FALSE(blocks.empty());
     int scenes = 0, waters = 0, probeArrays = 0;
     const fs::path dir = scratchDir("docs_examples", "scene_format");

@@ -38,6 +38,7 @@
 namespace fs = std::filesystem;
 using littoral::testing_support::CommandResult;
 using littoral::testing_support::runLittoral;
+using littoral::testing_support::spawnLittoral;
 using littoral::testing_support::scratchDir;
 using littoral::testing_support::writeTextFile;
 
@@ -76,23 +77,6 @@ std::string replaced(std::string text, const std::string& from, const std::strin
     EXPECT_NE(at, std::string::npos) << from;
     if (at != std::string::npos) text.replace(at, from.size(), to);
     return text;
-}
-
-// Runs `littoral ARGS` as a child process (no shell) so the test can signal it.
-pid_t spawnLittoral(const std::vector<std::string>& args) {
-    std::vector<std::string> argv{littoral::testing_support::littoralBinary().string()};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    return rc == 0 ? pid : -1;
 }
 
 int waitStatus(pid_t pid) {
@@ -1018,13 +1002,22 @@ TEST_F(Hostile, RasterOriginCanComeFromTheSceneOrigin) {
     };
     CommandResult r = runScene("check-scene", scene("origin: scene, frame: utm, "), false);
     EXPECT_EQ(r.status, 0) << r.output;
-    r = runScene("check-scene", scene("origin: scene, "), false);  // the local tangent-plane frame
+    // The local tangent-plane frame: an ASCII grid without a .prj has no system to reproject from.
+    r = runScene("check-scene", scene("origin: scene, "), false);
     EXPECT_EQ(r.status, 1) << r.output;
-    EXPECT_TRUE(contains(r.output, "scene.yaml:5:") && contains(r.output, "bathymetry.origin: 'scene' places a "
-                                                                          "projected (UTM) raster in the scene's UTM "
-                                                                          "frame, but the frame is the local tangent "
-                                                                          "plane; set bathymetry.frame: utm"))
+    EXPECT_TRUE(contains(r.output, "utm.asc: error: the raster declares no coordinate system") &&
+                contains(r.output, "set bathymetry.frame: utm"))
         << r.output;
+    // With its .prj (UTM zone 18 N, WGS 84) it is reprojected into the tangent plane.
+    writeTextFile(dir_, "utm.prj",
+                  "PROJCS[\"WGS_1984_UTM_Zone_18N\",GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID["
+                  "\"WGS_1984\",6378137.0,298.257223563]],PRIMEM[\"Greenwich\",0.0],UNIT[\"Degree\","
+                  "0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],PARAMETER[\"False_Easting\",500000.0],"
+                  "PARAMETER[\"False_Northing\",0.0],PARAMETER[\"Central_Meridian\",-75.0],PARAMETER["
+                  "\"Scale_Factor\",0.9996],PARAMETER[\"Latitude_Of_Origin\",0.0],UNIT[\"Meter\",1.0]]");
+    r = runScene("check-scene", scene("origin: scene, "), false);
+    EXPECT_EQ(r.status, 0) << r.output;
+    fs::remove(dir_ / "utm.prj");
     r = runScene("check-scene", scene("origin: scene, origin_x_m: 1, frame: utm, "), false);
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "give either 'origin: scene' or origin_x_m/origin_y_m")) << r.output;

@@ -1,14 +1,20 @@
 #pragma once
 // Helpers shared by the test programs: scratch directories and running the `littoral` binary.
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
+
+extern char** environ;
 
 namespace littoral::testing_support {
 
@@ -68,6 +74,44 @@ inline CommandResult runLittoral(const std::string& args) {
     const int st = pclose(p);
     r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     return r;
+}
+
+// Runs `littoral ARGS` as a child process (no shell, output discarded) so that the test can signal
+// it; -1 if it cannot be started.
+inline pid_t spawnLittoral(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{littoralBinary().string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (auto& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+// The fenced code blocks of language `lang` ("yaml" for ```yaml) of a Markdown file, in order.
+inline std::vector<std::string> markdownBlocks(const std::filesystem::path& md, const std::string& lang) {
+    std::ifstream in(md);
+    std::vector<std::string> blocks;
+    std::string line, cur;
+    bool inside = false;
+    while (std::getline(in, line)) {
+        if (!inside && line.rfind("```" + lang, 0) == 0 && line.size() == 3 + lang.size()) {
+            inside = true;
+            cur.clear();
+        } else if (inside && line.rfind("```", 0) == 0) {
+            inside = false;
+            blocks.push_back(cur);
+        } else if (inside) {
+            cur += line + "\n";
+        }
+    }
+    return blocks;
 }
 
 // `text` with the first occurrence of `from` replaced by `to` (a failed expectation if absent).
