@@ -83,7 +83,9 @@ std::vector<std::string> sensorOutputFiles(std::string_view sensor) {
             s + "_glint.img", s + "_glint.hdr", s + "_other.img", s + "_other.hdr", s + "_ed0.img", s + "_ed0.hdr",
             s + "_rrs.img", s + "_rrs.hdr",
             // The radiance as a GeoTIFF (scenes with scene.origin; pipelines/lib_geotiff.cpp).
-            s + ".tif"};
+            s + ".tif",
+            // The standard error of the radiance (samples_per_pixel >= 2; render/render_job.cpp).
+            s + "_stderr.img", s + "_stderr.hdr"};
 }
 
 std::vector<std::string> probeOutputFiles() { return {"probes.csv", "probes.json", "kd.csv"}; }

@@ -478,6 +478,8 @@ const KindInfo& dirsigEstimatorKind() {
             {"hemisphere_samples", "", T::Integer, 64, 1, 1 << 20, "", "sky and background rays at the first diffuse vertex"},
             probeSamplesSetting(),
             probeBatchesSetting(),
+            targetRelativeErrorSetting(),
+            maxSamplesPerPixelSetting(),
             {"surface_photons", "photons.surface", T::Integer, std::nullopt, 1, 1e10, "",
              "photons in the surface map (required by solver surface-pm)"},
             {"volume_photons", "photons.volume", T::Integer, kDefaultVolumePhotons, 1, 1e10, "",

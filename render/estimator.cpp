@@ -50,6 +50,17 @@ ParamSpec marchStepSetting() {
             "step of the in-scatter (sun and photon-map) estimates along rays in water"};
 }
 
+// Per-pixel convergence (render/renderer.cpp): 0 = every pixel takes samples_per_pixel.
+ParamSpec targetRelativeErrorSetting() {
+    return {"target_relative_error", "", ParamType::Real, 0, 0, 1, "",
+            "per-pixel target relative standard error: a pilot of samples_per_pixel decides each pixel's "
+            "samples, up to max_samples_per_pixel; 0 = off"};
+}
+ParamSpec maxSamplesPerPixelSetting() {
+    return {"max_samples_per_pixel", "", ParamType::Integer, 1024, 4, 1 << 20, "",
+            "the most samples a pixel takes under target_relative_error"};
+}
+
 // The estimators' descriptors, and the probe quantities they evaluate (render/probes.cpp).
 void registerEstimatorKinds() {
     static std::once_flag once;
@@ -277,6 +288,34 @@ void readPathSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c)
 
 }  // namespace
 
+namespace {
+
+// render.target_relative_error and its cap: the pilot (each sensor's samples_per_pixel) needs 4
+// samples at least to estimate a variance, and the cap must allow more than the pilot; the cap
+// alone would do nothing, and is refused.
+void readPixelConvergence(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c) {
+    c->targetRelativeError = r.get<double>("target_relative_error");
+    c->maxSamplesPerPixel = r.get<int>("max_samples_per_pixel");
+    if (c->targetRelativeError <= 0) {
+        if (r.isSet("max_samples_per_pixel"))
+            r.fail("max_samples_per_pixel", "caps the samples of render.target_relative_error, which is not set; set "
+                                            "both, or remove max_samples_per_pixel");
+        return;
+    }
+    for (const ir::Sensor& s : ir.sensors) {
+        if (s.samplesPerPixel < 4)
+            r.fail("target_relative_error", fmt::format("needs samples_per_pixel >= 4 on every sensor, the pilot that "
+                                                        "estimates each pixel's variance; sensor '{}' has {}",
+                                                        s.name, s.samplesPerPixel));
+        if (s.samplesPerPixel >= c->maxSamplesPerPixel)
+            r.fail("target_relative_error", fmt::format("sensor '{}' has samples_per_pixel {}, not below "
+                                                        "render.max_samples_per_pixel {}: no pixel could take more",
+                                                        s.name, s.samplesPerPixel, c->maxSamplesPerPixel));
+    }
+}
+
+}  // namespace
+
 RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
     registerEstimatorKinds();
     const ir::RenderSettings& s = ir.render;
@@ -288,6 +327,7 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir) {
     if (c.probeBatches > c.probeSamples)
         r.fail("probe_batches", fmt::format("{} batches cannot be formed from {} probe samples", c.probeBatches,
                                             c.probeSamples));
+    readPixelConvergence(ir, r, &c);
     switch (s.estimator) {
         case ir::Estimator::Dirsig: readDirsigSettings(ir, r, &c); break;
         case ir::Estimator::Path: readPathSettings(ir, r, &c); break;

@@ -50,6 +50,10 @@ struct RenderConfig {
     int probeSamples = 4096;     // sample paths per probe quantity
     int probeBatches = 16;       // independent batches (standard errors from their spread)
     double marchStep = 0.1;      // path: spacing of sun estimates; dirsig MediumPM: gather step along rays (m)
+    // Per-pixel convergence: > 0, each pixel takes the samples its pilot (samples_per_pixel) says it
+    // needs for this relative standard error, up to maxSamplesPerPixel (render/renderer.cpp).
+    double targetRelativeError = 0;
+    int maxSamplesPerPixel = 0;
     // Per material (index as in the IR): the dirsig solver that evaluates it.
     std::vector<ir::Material::Solver> solvers;
     // Photon maps (dirsig with SurfacePM materials or MediumPM media).

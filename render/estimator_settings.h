@@ -16,6 +16,8 @@ ParamSpec maxSpecularDepthSetting(double defaultValue);
 ParamSpec probeSamplesSetting();
 ParamSpec probeBatchesSetting();
 ParamSpec marchStepSetting();
+ParamSpec targetRelativeErrorSetting();
+ParamSpec maxSamplesPerPixelSetting();
 
 const KindInfo& dirsigEstimatorKind();  // dirsig_estimator.cpp
 const KindInfo& pathEstimatorKind();    // path_estimator.cpp

@@ -425,7 +425,8 @@ const KindInfo& pathEstimatorKind() {
                                "an unbiased volumetric path tracer, the reference the other estimators are checked "
                                "against",
                                {maxBouncesSetting(1000), maxSpecularDepthSetting(1000), probeSamplesSetting(),
-                                probeBatchesSetting(), marchStepSetting()}};
+                                probeBatchesSetting(), targetRelativeErrorSetting(), maxSamplesPerPixelSetting(),
+                                marchStepSetting()}};
     return kind;
 }
 

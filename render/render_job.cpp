@@ -58,6 +58,10 @@ void finish(const ProgressiveState& st, std::vector<SensorImage>* outImages, std
         size_t k = 0;
         for (Film* f : last[i].films())
             for (float& v : f->pixels) v = static_cast<float>(st.imageSums[i][k++] / n);
+        // The passes' mean standard error, over sqrt(n): the error of the mean of n independent
+        // passes, each as noisy as the others.
+        if (last[i].standardError)
+            for (float& v : last[i].standardError->pixels) v = static_cast<float>(v / std::sqrt(n));
     }
     for (size_t i = 0; i < lastProbes.size(); ++i)
         for (size_t b = 0; b < lastProbes[i].mean.size(); ++b) {
@@ -176,6 +180,15 @@ void writeOptionalOutputs(const ir::Sensor& sensor, const SensorImage& img, cons
         writeTextFileAtomic(p, detectorReportJson(*det, *sensor.detector, img.film.bands));
     });
     if (det) reportDetector(img.sensor, *det, *sensor.detector, img.film.bands);
+    // The standard-error image (files[26], [27]: an ENVI pair), with two samples per pixel or more.
+    if (img.standardError) {
+        const EnviFields fields{"standard error of the radiance (sample spread over sqrt(samples))", kEnviRadianceUnits,
+                                envi.extraHeader};
+        writeEnvi(outDir / files[26], *img.standardError, description, fields);
+    } else {
+        removeStaleOutput(outDir / files[26], "a standard-error image");
+        removeStaleOutput(outDir / files[27], "a standard-error image");
+    }
     writeWaterProducts(img, outDir, files, description, envi);
 }
 

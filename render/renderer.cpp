@@ -261,6 +261,7 @@ std::vector<Film*> SensorImage::films() {
     if (products)
         for (Film* p : {&products->waterLeaving, &products->skyReflected, &products->glint, &products->other, &products->ed0})
             f.push_back(p);
+    if (standardError) f.push_back(&*standardError);
     return f;
 }
 
@@ -286,6 +287,120 @@ SensorImage renderSensor(const Scene& scene, const ir::Sensor& sensor, const Ren
     return renderSensor(scene, estimators, sensor, opts);
 }
 
+namespace {
+
+// One pixel's sums over n samples: the radiance, its square (for the standard error) and, with
+// water products, the parts.
+struct PixelSamples {
+    Spec sum, sum2;
+    PartSums parts;
+    explicit PixelSamples(int nb) : sum(nb), sum2(nb), parts(nb) {}
+};
+
+// Samples pixels with one band group's estimator. Sample s of a pixel uses the random stream
+// firstStream + s of that pixel; n > 1 samples are stratified over the pixel's area.
+struct PixelSampler {
+    const Camera& cam;
+    const Estimator& estimator;
+    int medium;
+    uint64_t seed;
+    bool withParts;
+    int bands;
+
+    PixelSamples operator()(int x, int y, uint64_t firstStream, int n) const {
+        PixelSamples ps(bands);
+        const StratifiedLayout layout(n);
+        const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
+        for (int s = 0; s < n; ++s) {
+            RandomStream rng(seed, firstStream + static_cast<uint64_t>(s), pixel);
+            Vec2 u{0.5, 0.5};  // one sample: the pixel centre (as the thesis' comparators)
+            const double j1 = rng.uniform(), j2 = rng.uniform();
+            if (n > 1) u = layout.point(s, j1, j2);
+            const Ray ray = cam.generateRay(x + u.x, y + u.y);
+            Spec v;
+            if (withParts) {
+                const RadianceParts p = estimator.LiParts(ray, medium, rng);
+                ps.parts.add(p);
+                v = p.total();
+            } else {
+                v = estimator.Li(ray, medium, rng);
+            }
+            ps.sum += v;
+            ps.sum2 += v * v;
+        }
+        return ps;
+    }
+};
+
+// The pilot samples of render.target_relative_error come from streams of their own (far above any
+// pixel's final samples), so that the number of final samples depends on nothing they contain:
+// the final mean stays unbiased (docs/rendering.md, "Per-pixel convergence").
+constexpr uint64_t kPilotStreamBase = uint64_t{1} << 62;
+
+// The samples a pixel needs for relative standard error `target` in every band, from a pilot of
+// n0 samples: sigma^2 / (target mean)^2, at most cap; the cap where a band's pilot mean is 0 but its
+// samples vary.
+double samplesForTarget(const PixelSamples& pilot, int n0, double target, int cap) {
+    double need = 0;
+    for (int b = 0; b < pilot.sum.n; ++b) {
+        const double mean = pilot.sum[b] / n0;
+        const double var = std::max(0.0, (pilot.sum2[b] - n0 * mean * mean) / (n0 - 1));
+        if (var <= 0) continue;
+        if (mean <= 0) return cap;
+        need = std::max(need, var / (target * target * mean * mean));
+    }
+    return std::min<double>(need, cap);
+}
+
+// Every pixel's samples under render.target_relative_error. A small pilot underestimates the
+// variance of heavy-tailed radiance (a glint through a facet that few of its samples catch), so a
+// pixel takes the larger of its own need and the mean need of its 3 x 3 neighbourhood, whose
+// pilots together are nine times larger; within [n0, cap]. The pilots use streams of their own
+// (kPilotStreamBase), so the count depends on nothing the final samples contain.
+template <class Sampler>
+std::vector<int> adaptiveSampleCounts(const RenderOptions& opts, const Tiling& tiling, const Sampler& sampler,
+                                      uint64_t firstPilot, int n0, double target, int cap) {
+    const int w = tiling.width, h = tiling.height;
+    std::vector<double> need(static_cast<size_t>(w) * h);
+    runTiles(opts, tiling, nullptr, [&](size_t tile) {
+        tiling.forEachPixel(tile, [&](int x, int y) {
+            need[static_cast<size_t>(y) * w + x] = samplesForTarget(sampler(x, y, firstPilot, n0), n0, target, cap);
+        });
+    });
+    std::vector<int> n(need.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0;
+            int count = 0;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) sum += need[static_cast<size_t>(j) * w + i], ++count;
+            const double k = std::max(need[static_cast<size_t>(y) * w + x], sum / count);
+            n[static_cast<size_t>(y) * w + x] = static_cast<int>(std::clamp(std::ceil(k), static_cast<double>(n0), static_cast<double>(cap)));
+        }
+    return n;
+}
+
+// What render.target_relative_error did: the mean samples per pixel and, with a warning, the pixels
+// that stopped at the cap short of the target (their standard error is in the error image).
+void reportAdaptiveSampling(const std::string& sensor, const RenderConfig& cfg, int64_t samples, int64_t capped,
+                            int64_t pixels) {
+    log::info("sensor '{}': render.target_relative_error {}: {:.1f} samples per pixel on average (a pilot of "
+              "samples_per_pixel more each)", sensor, cfg.targetRelativeError, static_cast<double>(samples) / pixels);
+    if (capped > 0)
+        log::warn("sensor '{}': {} of {} pixels ({:.1f} %) reached render.max_samples_per_pixel = {} before relative "
+                  "error {}; their errors are larger (see the _stderr image): raise max_samples_per_pixel",
+                  sensor, capped, pixels, 100.0 * capped / pixels, cfg.maxSamplesPerPixel, cfg.targetRelativeError);
+}
+
+// The standard error of the mean of n samples with these sums, sqrt(s^2 / n).
+double standardError(double sum, double sum2, int n) {
+    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1)) / n);
+}
+
+}  // namespace
+
 SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, const ir::Sensor& sensor,
                          const RenderOptions& opts) {
     SensorImage out;
@@ -294,66 +409,59 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     const Camera cam(sensor);
     const int medium = scene.mediumIndex(sensor.medium, fmt::format("sensor '{}' medium", sensor.name));
     out.film = Film(cam.width(), cam.height(), scene.bands());
-    if (sensor.waterProducts) {
-        out.products = WaterProductFilms{out.film, out.film, out.film, out.film, out.film};
-    }
+    if (sensor.waterProducts) out.products = WaterProductFilms{out.film, out.film, out.film, out.film, out.film};
+    const int spp = cam.samplesPerPixel();
+    if (spp >= 2) out.standardError = out.film;
     const int nb = scene.bandCount();
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     const auto& groups = estimators.groups();
-    const uint64_t seed = scene.ir().render.seed;
-    const int spp = cam.samplesPerPixel();
-    const StratifiedLayout pixelLayout(spp);
-    // Progressive pass p draws its own samples (streams (p - 1) spp ... p spp - 1): with the same
-    // numbers in every pass, the passes would share their sampling noise and their spread would
-    // see only the photon maps' noise.
-    const uint64_t firstStream = static_cast<uint64_t>(estimators.pass() - 1) * static_cast<uint64_t>(spp);
+    const RenderConfig& cfg = estimators.config();
+    const bool adaptive = cfg.targetRelativeError > 0;
+    const int cap = adaptive ? cfg.maxSamplesPerPixel : spp;
+    // Progressive pass p draws its own samples (streams (p - 1) cap ... ): with the same numbers in
+    // every pass, the passes would share their sampling noise and their spread would see only the
+    // photon maps' noise.
+    const uint64_t pass0 = static_cast<uint64_t>(estimators.pass() - 1);
+    const uint64_t firstStream = pass0 * static_cast<uint64_t>(cap), firstPilot = kPilotStreamBase + pass0 * spp;
 
     std::unique_ptr<Progress> progress;
     if (opts.progress)
         progress = std::make_unique<Progress>(fmt::format("render {}", sensor.name), tiling.count() * groups.size(),
                                               "tiles");
-    std::atomic<int64_t> nonFinite{0};
+    std::atomic<int64_t> nonFinite{0}, samples{0}, capped{0};
     for (size_t gi = 0; gi < groups.size(); ++gi) {
         const BandGroup g = groups[gi];
-        const Estimator& estimator = estimators.forGroup(gi);
+        const PixelSampler sampler{cam, estimators.forGroup(gi), medium, scene.ir().render.seed, out.products.has_value(),
+                                   g.count};
+        std::vector<int> counts;
+        if (adaptive) counts = adaptiveSampleCounts(opts, tiling, sampler, firstPilot, spp, cfg.targetRelativeError, cap);
         runTiles(opts, tiling, progress.get(), [&](size_t tile) {
             tiling.forEachPixel(tile, [&](int x, int y) {
                 const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
-                Spec sum(g.count);
-                PartSums parts(g.count);
-                for (int s = 0; s < spp; ++s) {
-                    RandomStream rng(seed, firstStream + static_cast<uint64_t>(s), pixel);
-                    Vec2 u{0.5, 0.5};  // one sample: the pixel centre (as the thesis' comparators)
-                    const double j1 = rng.uniform(), j2 = rng.uniform();
-                    if (spp > 1) u = pixelLayout.point(s, j1, j2);
-                    const Ray ray = cam.generateRay(x + u.x, y + u.y);
-                    if (out.products) {
-                        const RadianceParts p = estimator.LiParts(ray, medium, rng);
-                        parts.add(p);
-                        sum += p.total();
-                    } else {
-                        sum += estimator.Li(ray, medium, rng);
+                const int n = adaptive ? counts[pixel] : spp;
+                if (adaptive && n >= cap) ++capped;
+                samples += n;
+                const PixelSamples ps = sampler(x, y, firstStream, n);
+                auto store = [&](Film& film, int b, double v) {
+                    if (!std::isfinite(v)) {  // never expected; counted and reported, not written
+                        ++nonFinite;
+                        v = 0.0;
                     }
-                }
-                auto store = [&](Film& film, const Spec& total, double n) {
-                    float* px = &film.pixels[pixel * nb];
-                    for (int b = 0; b < g.count; ++b) {
-                        double v = n > 0 ? total[b] / n : std::numeric_limits<double>::quiet_NaN();
-                        if (!std::isfinite(v) && n > 0) {  // never expected; counted and reported, not written
-                            ++nonFinite;
-                            v = 0.0;
-                        }
-                        px[g.begin + b] = static_cast<float>(v);
-                    }
+                    film.pixels[pixel * nb + g.begin + b] = static_cast<float>(v);
                 };
-                store(out.film, sum, spp);
-                if (out.products) {
+                for (int b = 0; b < g.count; ++b) {
+                    store(out.film, b, ps.sum[b] / n);
+                    if (out.standardError) store(*out.standardError, b, standardError(ps.sum[b], ps.sum2[b], n));
+                    if (!out.products) continue;
                     WaterProductFilms& f = *out.products;
-                    store(f.waterLeaving, parts.waterLeaving, spp);
-                    store(f.skyReflected, parts.skyReflected, spp);
-                    store(f.glint, parts.glint, spp);
-                    store(f.other, parts.other, spp);
-                    store(f.ed0, parts.ed0, parts.seaSamples);
+                    const PartSums& p = ps.parts;
+                    store(f.waterLeaving, b, p.waterLeaving[b] / n);
+                    store(f.skyReflected, b, p.skyReflected[b] / n);
+                    store(f.glint, b, p.glint[b] / n);
+                    store(f.other, b, p.other[b] / n);
+                    // Ed(0+) over the samples that met the sea; NaN where none did.
+                    f.ed0.pixels[pixel * nb + g.begin + b] = p.seaSamples > 0 ? static_cast<float>(p.ed0[b] / p.seaSamples)
+                                                                              : std::numeric_limits<float>::quiet_NaN();
                 }
             });
         });
@@ -362,6 +470,8 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     if (nonFinite.load() > 0)
         log::warn("sensor '{}': {} pixel values were not finite and were set to 0 (please report)", sensor.name,
                   nonFinite.load());
+    if (adaptive) reportAdaptiveSampling(sensor.name, cfg, samples.load(), capped.load(),
+                                         static_cast<int64_t>(cam.width()) * cam.height() * groups.size());
     return out;
 }
 

@@ -42,7 +42,11 @@ struct SensorImage {
     Film film;            // band-averaged radiance, W m^-2 sr^-1 um^-1
     TruthImages truth;    // first-hit material, range, depth below z = 0 of the pixel-centre ray
     std::optional<WaterProductFilms> products;
-    // The radiance film and the product films, in that order (for sums over passes and bands).
+    // The standard error of each pixel's radiance (the spread of its samples over sqrt(n)), with two
+    // samples per pixel or more. Progressive passes average it; the render job divides by sqrt(passes).
+    std::optional<Film> standardError;
+    // The radiance film, the product films and the standard-error film, in that order (for sums over
+    // passes and bands).
     std::vector<Film*> films();
     std::vector<const Film*> films() const;
 };
