@@ -36,6 +36,9 @@ int64_t wholeNumber(const nlohmann::json& j, const std::string& what) {
 
 }  // namespace
 
+// The sums of image i after `passes` passes: image<i>-<passes>.f64.
+std::string imageFileName(size_t i, int passes) { return fmt::format("image{}-{}.f64", i, passes); }
+
 void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st, const CheckpointShape& shape) {
     createOutputFolder(dir);
     nlohmann::json j;
@@ -51,13 +54,23 @@ void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st
     j["image_sizes"] = sizes;
     for (size_t i = 0; i < st.imageSums.size(); ++i) {
         const auto& v = st.imageSums[i];
-        writeTextFileAtomic(dir / fmt::format("image{}.f64", i),
+        writeTextFileAtomic(dir / imageFileName(i, st.passesDone),
                             std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double)));
     }
     writeTextFileAtomic(dir / "state.json", j.dump(1) + "\n");
     // A checkpoint exists to survive an interrupted or failed run: it is published at once
-    // instead of waiting for the command's output set (core/atomic_file.h).
+    // instead of waiting for the command's output set (core/atomic_file.h). The image sums carry
+    // their pass count in their names and state.json is renamed last, so a run killed while saving
+    // leaves the previous pass's state with the previous pass's sums; those go once the new state
+    // is in place.
     publishStagedOutputs();
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        bool current = false;
+        for (size_t i = 0; i < st.imageSums.size(); ++i) current = current || name == imageFileName(i, st.passesDone);
+        if (!current && name.rfind("image", 0) == 0 && e.path().extension() == ".f64") std::filesystem::remove(e.path(), ec);
+    }
 }
 
 ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash, const CheckpointShape& shape) {
@@ -98,14 +111,16 @@ ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash,
             const int64_t n = wholeNumber(sizes[i], fmt::format("image_sizes[{}]", i));
             if (n < 0 || static_cast<uint64_t>(n) != shape.imageSizes[i])
                 throw InputError(fmt::format("image {} holds {} values, the sensor renders {}", i, n, shape.imageSizes[i]));
-            const std::string raw = readTextFile(dir / fmt::format("image{}.f64", i));
-            forgetInput(dir / fmt::format("image{}.f64", i));
+            const std::filesystem::path imageFile = dir / imageFileName(i, st.passesDone);
+            const std::string raw = readTextFile(imageFile);
+            forgetInput(imageFile);
             if (raw.size() != shape.imageSizes[i] * sizeof(double)) throw InputError("image sums truncated");
             std::vector<double> v(shape.imageSizes[i]);
             std::memcpy(v.data(), raw.data(), raw.size());
             for (size_t k = 0; k < v.size(); ++k)
                 if (!std::isfinite(v[k]))
-                    throw InputError(fmt::format("image{}.f64 holds {} at value {}; a render's sums are finite", i, v[k], k));
+                    throw InputError(fmt::format("{} holds {} at value {}; a render's sums are finite",
+                                                 imageFileName(i, st.passesDone), v[k], k));
             st.imageSums.push_back(std::move(v));
         }
         checkShape(st, shape);

@@ -1,8 +1,9 @@
 #pragma once
 // The checkpoint of a progressive photon-mapping render (render_job.h): after every pass but the
 // last, the running sums are saved to DIR/progressive.checkpoint/ as state.json (format, IR hash,
-// sensor selection, passes, passes done, probe sums and squares, image sizes) and image<i>.f64
-// (the image sums, native doubles). `--resume` reads them back, checked against the resuming run.
+// sensor selection, passes, passes done, probe sums and squares, image sizes) and
+// image<i>-<passes done>.f64 (the image sums, native doubles; state.json is renamed last).
+// `--resume` reads them back, checked against the resuming run.
 // Its own file so that the reader can be fuzzed without a renderer (fuzz/targets/fuzz_checkpoint.cpp).
 #include <cstddef>
 #include <filesystem>
@@ -35,5 +36,7 @@ void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st
 // none, if it was made by another IR (`irHash`) or another sensor selection, or if it is unreadable
 // or its passes and sums do not fit `shape`.
 ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash, const CheckpointShape& shape);
+// The file of image i's sums after `passes` passes.
+std::string imageFileName(size_t i, int passes);
 
 }  // namespace littoral::render

@@ -314,8 +314,10 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     shape.sensor = opts.sensor;
     shape.passes = passes;
     shape.bands = static_cast<size_t>(scene.bandCount());
-    for (const ir::Sensor* s : sensors)  // the radiance and, with water products, five more films
-        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * (s->waterProducts ? 6 : 1));
+    for (const ir::Sensor* s : sensors) {  // SensorImage::films(): the radiance, five products, the error
+        const size_t films = 1 + (s->waterProducts ? 5 : 0) + (s->samplesPerPixel >= 2 ? 1 : 0);
+        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * films);
+    }
     if (probesToo)
         for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
     if (opts.resume) {

@@ -1,5 +1,5 @@
 // The progressive-render checkpoint reader (`render --resume`): the folder progressive.checkpoint/
-// (state.json and image<i>.f64), packed as in fuzz_folder.h, read by render::loadCheckpoint with
+// (state.json and image<i>-<passes>.f64), packed as in fuzz_folder.h, read by render::loadCheckpoint with
 // the checks a resuming run makes (format, IR hash, sensor selection, passes, the sizes of every
 // sum), against one fixed small run in both of its sensor selections.
 //

@@ -795,7 +795,7 @@ TEST_F(Hostile, ResumeRefusesCheckpointsOfAnotherShape) {
                           sensor + "\", \"passes\": 3, \"passes_done\": " + std::to_string(passesDone) +
                           ", \"probe_sums\": [[1.0]], \"probe_squares\": [[1.0]], \"image_sizes\": [" +
                           std::to_string(imageValues) + "]}\n");
-        writeTextFile(ckpt, "image0.f64", std::string(imageValues * sizeof(double), '\0'));
+        writeTextFile(ckpt, fmt::format("image0-{}.f64", passesDone), std::string(imageValues * sizeof(double), '\0'));
     };
     auto resume = [&] { return runLittoral("-q render " + q(out_) + " --out " + q(render) + " --resume"); };
 

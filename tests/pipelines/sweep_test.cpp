@@ -1,4 +1,6 @@
-// `littoral sweep` (docs/sweeps.md): the 2 x 2 example of the docs equals the four single runs
+// Long runs that are killed and resumed. A progressive photon-map run killed (SIGKILL) after pass 2
+// of 4 and resumed equals the uninterrupted run. `littoral sweep` (docs/sweeps.md): the 2 x 2
+// example of the docs equals the four single runs
 // made from hand-edited scene files, byte for byte, and is indexed; a sweep killed (SIGKILL) after
 // two runs resumes with the others and keeps the finished ones; a Slurm job array, run task by
 // task, gives the same folders; bad --vary options and foreign output folders are refused with a
@@ -303,4 +305,37 @@ TEST(Sweep, AFolderHoldingSomethingElseIsRefused) {
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("runs/0000/scene.yaml: error: this run's scene differs"), std::string::npos) << r.output;
     EXPECT_EQ(outputFiles(out), before);
+}
+
+// A 4-pass progressive photon-map run with 4 samples per pixel (so its standard-error image is in
+// the checkpoint too), killed as soon as the checkpoint says pass 2 is done, then `run --resume`:
+// every output equals the uninterrupted run's (EXR pixels, validity.json but for its timings).
+TEST(Resume, ProgressiveRunKilledAfterPassTwoOfFourEqualsTheUninterruptedRun) {
+    const fs::path dir = scratchDir("sweep", "resume");
+    std::string text = replacedOnce(kSmallScene, "materials: [{name: floor, reflectance: 0.2}]",
+                                    "materials: [{name: floor, reflectance: 0.2, solver: surface-pm}]");
+    text = replacedOnce(text, "width: 16, height: 12", "width: 16, height: 12, samples_per_pixel: 4");
+    text = replacedOnce(text, "probe_samples: 64",
+                        "probe_samples: 64, photons: {surface: 100000, volume: 100000}, progressive: {passes: 4}");
+    const fs::path scene = writeTextFile(dir, "scene.yaml", text), out = dir / "killed";
+    const pid_t pid = spawnLittoral({"-q", "run", scene.string(), "--out", out.string(), "--threads", "1"});
+    ASSERT_GT(pid, 0);
+    const fs::path state = out / "progressive.checkpoint" / "state.json";
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::minutes(3)) {
+        if (fs::exists(state) && slurp(state).find("\"passes_done\": 2") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ::kill(pid, SIGKILL);
+    int st = 0;
+    waitpid(pid, &st, 0);
+    ASSERT_TRUE(WIFSIGNALED(st)) << "the run ended before it could be killed";
+    ASSERT_NE(slurp(state).find("\"passes_done\": 2"), std::string::npos) << slurp(state);
+    ASSERT_FALSE(fs::exists(out / "nadir.img"));
+    auto r = runLittoral(fmt::format("-q run {} --out {} --resume", q(scene), q(out)));
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = runLittoral(fmt::format("-q run {} --out {}", q(scene), q(dir / "whole")));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(out / "nadir_stderr.img"));
+    expectSameOutputs(out, dir / "whole");
 }

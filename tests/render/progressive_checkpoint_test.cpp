@@ -101,7 +101,34 @@ TEST(ProgressiveCheckpoint, CountsMustBeWholeNumbersInRange) {
 TEST(ProgressiveCheckpoint, ImageSumsMustBeFinite) {
     for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
         const std::string e = errorOf(checkpoint("nonfinite", "", "", bad));
-        EXPECT_NE(e.find("unreadable checkpoint: image0.f64 holds "), std::string::npos) << e;
+        EXPECT_NE(e.find("unreadable checkpoint: image0-1.f64 holds "), std::string::npos) << e;
         EXPECT_NE(e.find(" at value 0; a render's sums are finite"), std::string::npos) << e;
     }
+}
+
+// A run killed while it saves pass 2's checkpoint has renamed some of the new files but not the new
+// state.json (renamed last). The sums carry their pass in their names, so the old state still reads
+// the old sums, never pass 2's; once pass 2's state is in place, pass 1's sums are removed.
+TEST(ProgressiveCheckpoint, AKillWhileSavingLeavesTheLastCompleteState) {
+    const fs::path dir = checkpoint("kill_while_saving");
+    const std::string pass1State = littoral::readTextFile(dir / "state.json");
+    const std::string pass1Sums = littoral::readTextFile(dir / "image0-1.f64");
+    littoral::clearNotedInputs();
+    ProgressiveState st;
+    st.irHash = kHash;
+    st.passesDone = 2;
+    st.imageSums = {{10, 20, 30, 40}};
+    st.probeSums = {{11}};
+    st.probeSquares = {{61}};
+    littoral::render::saveCheckpoint(dir, st, shape());
+    EXPECT_FALSE(fs::exists(dir / "image0-1.f64"));
+    EXPECT_EQ(littoral::render::loadCheckpoint(dir, kHash, shape()).imageSums[0], (std::vector<double>{10, 20, 30, 40}));
+    littoral::clearNotedInputs();
+    // What the kill leaves: pass 2's sums renamed, pass 1's state and sums still there.
+    writeTextFile(dir, "state.json", pass1State);
+    writeTextFile(dir, "image0-1.f64", pass1Sums);
+    const ProgressiveState back = littoral::render::loadCheckpoint(dir, kHash, shape());
+    EXPECT_EQ(back.passesDone, 1);
+    EXPECT_EQ(back.imageSums[0], (std::vector<double>{1, 2, 3, 4}));
+    EXPECT_EQ(back.probeSums, (std::vector<std::vector<double>>{{5}}));
 }
