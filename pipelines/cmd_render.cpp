@@ -33,7 +33,8 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
     cmd->add_flag("--resume", o->resume,
-                  "Continue a progressive photon-mapping render after its last saved pass (DIR/progressive.checkpoint)");
+                  "Continue an interrupted render from its checkpoint: a progressive one after its last saved pass "
+                  "(DIR/progressive.checkpoint), any other from its finished tiles (DIR/render.checkpoint)");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         const littoral::OutputFolderLock lock(o->outDir);  // one command per output folder

@@ -18,7 +18,7 @@ littoral::CommandRegistrar reg{"run", [](CLI::App& app) {
     cmd->add_option("--out", o->out, "Output directory (the IR goes to OUT/ir)")->required();
     cmd->add_option("--sensor", o->sensor, "Render only this sensor");
     cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores; at most 1024)")->check(CLI::Range(0, 1024));
-    cmd->add_flag("--resume", o->resume, "Continue a progressive photon-mapping render after its last saved pass");
+    cmd->add_flag("--resume", o->resume, "Continue an interrupted render from its checkpoint (its last saved pass, or its finished tiles)");
     littoral::pipelines::addPreviewOptions(cmd, &o->preview);
     cmd->callback([o] {
         const littoral::OutputFolderLock lock(o->out);  // one command per output folder

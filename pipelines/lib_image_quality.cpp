@@ -298,6 +298,7 @@ ImageQualityRow runOne(const ImageQualityOptions& o, const StudySetup& s, double
     const auto built = scenegen::buildScene(dir / "scene.yaml", dir / "ir");
     exposeStagedOutputs();
     render::RenderJobOptions jo;
+    jo.tileCheckpoint = false;  // the study's runs are one output set: an interrupt leaves nothing
     jo.threads = o.threads;
     jo.progress = false;
     const auto res = render::runRenderJob(built.ir, dir / "ir", dir, jo);

@@ -426,6 +426,8 @@ std::string runLocally(SweepState& s) {
 
 std::string runSweep(const SweepOptions& o) {
     if (o.vary.empty()) throw InputError(SourceLoc{"--vary"}, "a sweep needs at least one --vary KEY=V1,V2,...");
+    if (o.slurm && o.task >= 0)
+        throw InputError(SourceLoc{"--task"}, "--task runs one task of the array that --slurm writes; give one or the other");
     SweepState s{o, {}, {}, fs::path(o.out)};
     for (const auto& v : o.vary) s.axes.push_back(parseSweepAxis(v));
     s.runs = expandSweep(o.scene, s.axes);

@@ -1,5 +1,7 @@
 #include "render/render_job.h"
 
+#include <memory>
+
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
@@ -14,6 +16,7 @@
 #include "render/estimator.h"
 #include "render/image_output.h"
 #include "render/progressive_checkpoint.h"
+#include "render/tile_checkpoint.h"
 #include "render/sensor_model.h"
 
 namespace littoral::render {
@@ -320,8 +323,23 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     }
     if (probesToo)
         for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
-    if (opts.resume) {
-        if (passes < 2) throw InputError("--resume: this scene renders in a single pass (render.progressive.passes)");
+    // A render in one pass saves its finished tiles instead (render/tile_checkpoint.h).
+    const auto tileDir = outDir / "render.checkpoint";
+    std::unique_ptr<TileCheckpoint> tiles;
+    if (passes < 2 && (opts.tileCheckpoint || opts.resume)) {
+        std::vector<size_t> slots;
+        const size_t groups = bandGroups(scene).size();
+        for (const ir::Sensor* s : sensors) {
+            const size_t t = static_cast<size_t>(ro.tileSize);
+            slots.push_back(groups * ((static_cast<size_t>(s->width) + t - 1) / t) * ((static_cast<size_t>(s->height) + t - 1) / t));
+        }
+        tiles = std::make_unique<TileCheckpoint>(tileDir, state.irHash, opts.sensor, shape.imageSizes, slots);
+        if (opts.resume) {
+            tiles->load();
+            log::info("resuming the render from its finished tiles");
+        }
+        ro.checkpoint = tiles.get();
+    } else if (opts.resume) {
         state = loadCheckpoint(ckptDir, state.irHash, shape);
         first = state.passesDone + 1;
         log::info("resuming after pass {} of {}", state.passesDone, passes);
@@ -330,7 +348,10 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         // One estimator per band group (and its photon maps), shared by every sensor and probe.
         const EstimatorSet estimators(scene, pass, ro.threads, opts.progress, opts.maxPhotonsEmitted);
         std::vector<SensorImage> images;
-        for (const ir::Sensor* s : sensors) images.push_back(renderSensor(scene, estimators, *s, ro));
+        for (size_t k = 0; k < sensors.size(); ++k) {
+            ro.checkpointSensor = k;
+            images.push_back(renderSensor(scene, estimators, *sensors[k], ro));
+        }
         std::vector<ProbeValue> probes;
         if (probesToo)
             for (size_t i = 0; i < ir.probes.size(); ++i) {
@@ -349,6 +370,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
+    std::filesystem::remove_all(tileDir, ec);
     return res;
 }
 

@@ -34,11 +34,16 @@ struct RenderJobOptions {
     std::string sensor;    // render only this sensor ("" = all)
     int threads = 0;       // 0 = all cores
     bool progress = true;
-    // Progressive photon mapping (render.progressive.passes > 1): after every pass the running
-    // sums are saved to DIR/progressive.checkpoint/; with `resume` a run continues after the last
-    // saved pass of a checkpoint made by the same IR (InputError otherwise). The checkpoint is
-    // removed when the last pass is done and the outputs are written.
+    // Checkpoints. Progressive photon mapping (render.progressive.passes > 1): after every pass the
+    // running sums are saved to DIR/progressive.checkpoint/. A render in one pass: its finished
+    // tiles, every LITTORAL_CHECKPOINT_SECONDS (30 s), to DIR/render.checkpoint/
+    // (render/tile_checkpoint.h). With `resume` a run continues from the checkpoint made by the same
+    // IR and sensor selection (InputError otherwise). The checkpoint is removed when the outputs are
+    // written.
     bool resume = false;
+    // false: no tile checkpoint for a one-pass render (a command whose run folders belong to one
+    // output set, such as the image-quality study, where an interrupt must leave nothing).
+    bool tileCheckpoint = true;
     PreviewOptions preview;  // PNG display mapping: gamma, white level, Gaussian blur (image_output.h)
     // Photons a photon pass may emit while filling its maps (0: the default, at least 10^7; a map
     // still short then holds what was stored, with a warning). For tiny runs (fuzz/).

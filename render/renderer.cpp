@@ -19,6 +19,7 @@
 #include "core/rng.h"
 #include "render/estimator.h"
 #include "render/sampling.h"
+#include "render/tile_checkpoint.h"
 
 namespace littoral::render {
 
@@ -57,10 +58,13 @@ struct Tiling {
     }
 };
 
-template <class F> void runTiles(const RenderOptions& opts, const Tiling& tiling, Progress* progress, F&& body) {
+// Runs body(tile) for tiles [begin, end) (all of them by default) on the render's threads.
+template <class F>
+void runTiles(const RenderOptions& opts, const Tiling& tiling, Progress* progress, F&& body, size_t begin = 0,
+              size_t end = SIZE_MAX) {
     tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, tiling.count(), 1), [&](const tbb::blocked_range<size_t>& r) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(begin, std::min(end, tiling.count()), 1), [&](const tbb::blocked_range<size_t>& r) {
             for (size_t t = r.begin(); t != r.end(); ++t) {
                 body(t);
                 flushRayStats();
@@ -401,6 +405,37 @@ double standardError(double sum, double sum2, int n) {
 
 }  // namespace
 
+namespace {
+
+// Writes a pixel's means over its n samples into the films at `at` (its first band of the group):
+// the radiance, its standard error and the water-leaving products. A value that is not finite is
+// never expected: it is counted (and reported), and 0 is written.
+void storePixel(SensorImage& out, const PixelSamples& ps, uint64_t at, int bands, int n, std::atomic<int64_t>& nonFinite) {
+    auto store = [&](Film& film, int b, double v) {
+        if (!std::isfinite(v)) {
+            ++nonFinite;
+            v = 0.0;
+        }
+        film.pixels[at + b] = static_cast<float>(v);
+    };
+    for (int b = 0; b < bands; ++b) {
+        store(out.film, b, ps.sum[b] / n);
+        if (out.standardError) store(*out.standardError, b, standardError(ps.sum[b], ps.sum2[b], n));
+        if (!out.products) continue;
+        WaterProductFilms& f = *out.products;
+        const PartSums& p = ps.parts;
+        store(f.waterLeaving, b, p.waterLeaving[b] / n);
+        store(f.skyReflected, b, p.skyReflected[b] / n);
+        store(f.glint, b, p.glint[b] / n);
+        store(f.other, b, p.other[b] / n);
+        // Ed(0+) over the samples that met the sea; NaN where none did.
+        f.ed0.pixels[at + b] = p.seaSamples > 0 ? static_cast<float>(p.ed0[b] / p.seaSamples)
+                                                : std::numeric_limits<float>::quiet_NaN();
+    }
+}
+
+}  // namespace
+
 SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, const ir::Sensor& sensor,
                          const RenderOptions& opts) {
     SensorImage out;
@@ -412,6 +447,8 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     if (sensor.waterProducts) out.products = WaterProductFilms{out.film, out.film, out.film, out.film, out.film};
     const int spp = cam.samplesPerPixel();
     if (spp >= 2) out.standardError = out.film;
+    TileCheckpoint* const ck = opts.checkpoint;
+    if (ck) ck->restore(opts.checkpointSensor, out);  // the tiles a killed run finished
     const int nb = scene.bandCount();
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     const auto& groups = estimators.groups();
@@ -435,36 +472,24 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
                                    g.count};
         std::vector<int> counts;
         if (adaptive) counts = adaptiveSampleCounts(opts, tiling, sampler, firstPilot, spp, cfg.targetRelativeError, cap);
-        runTiles(opts, tiling, progress.get(), [&](size_t tile) {
+        const size_t nt = tiling.count();
+        auto renderTile = [&](size_t tile) {
+            if (ck && ck->done(opts.checkpointSensor, gi * nt + tile)) return;  // restored from the checkpoint
             tiling.forEachPixel(tile, [&](int x, int y) {
                 const uint64_t pixel = static_cast<uint64_t>(y) * cam.width() + x;
                 const int n = adaptive ? counts[pixel] : spp;
                 if (adaptive && n >= cap) ++capped;
                 samples += n;
                 const PixelSamples ps = sampler(x, y, firstStream, n);
-                auto store = [&](Film& film, int b, double v) {
-                    if (!std::isfinite(v)) {  // never expected; counted and reported, not written
-                        ++nonFinite;
-                        v = 0.0;
-                    }
-                    film.pixels[pixel * nb + g.begin + b] = static_cast<float>(v);
-                };
-                for (int b = 0; b < g.count; ++b) {
-                    store(out.film, b, ps.sum[b] / n);
-                    if (out.standardError) store(*out.standardError, b, standardError(ps.sum[b], ps.sum2[b], n));
-                    if (!out.products) continue;
-                    WaterProductFilms& f = *out.products;
-                    const PartSums& p = ps.parts;
-                    store(f.waterLeaving, b, p.waterLeaving[b] / n);
-                    store(f.skyReflected, b, p.skyReflected[b] / n);
-                    store(f.glint, b, p.glint[b] / n);
-                    store(f.other, b, p.other[b] / n);
-                    // Ed(0+) over the samples that met the sea; NaN where none did.
-                    f.ed0.pixels[pixel * nb + g.begin + b] = p.seaSamples > 0 ? static_cast<float>(p.ed0[b] / p.seaSamples)
-                                                                              : std::numeric_limits<float>::quiet_NaN();
-                }
+                storePixel(out, ps, pixel * nb + g.begin, g.count, n, nonFinite);
             });
-        });
+        };
+        // With a checkpoint, the tiles go in 16 chunks, each saved when it is done.
+        const size_t chunk = ck ? std::max<size_t>(1, (nt + 15) / 16) : nt;
+        for (size_t t0 = 0; t0 < nt; t0 += chunk) {
+            runTiles(opts, tiling, progress.get(), renderTile, t0, t0 + chunk);
+            if (ck) ck->finished(opts.checkpointSensor, gi * nt + t0, gi * nt + std::min(nt, t0 + chunk), out);
+        }
     }
     if (progress) progress->finish();
     if (nonFinite.load() > 0)

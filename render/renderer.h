@@ -24,10 +24,16 @@
 
 namespace littoral::render {
 
+class TileCheckpoint;  // render/tile_checkpoint.h
+
 struct RenderOptions {
     int threads = 0;       // 0 = all cores
     int tileSize = 16;     // pixels per tile side
     bool progress = true;  // show a progress bar over tiles
+    // A one-pass render job's checkpoint: renderSensor restores the tiles it holds for sensor
+    // `checkpointSensor` and saves its tiles as they finish.
+    TileCheckpoint* checkpoint = nullptr;
+    size_t checkpointSensor = 0;
 };
 
 // A sensor's water-leaving products (ir::Sensor::waterProducts): the parts of its radiance
