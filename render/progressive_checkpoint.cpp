@@ -25,16 +25,14 @@ void checkShape(const ProgressiveState& st, const CheckpointShape& shape) {
             throw InputError(fmt::format("probe value {} has {} bands, the scene {}", i, st.probeSums[i].size(), shape.bands));
 }
 
-// A whole number of the checkpoint: nlohmann's get<int> of 1e300 or of 2.5 would be undefined
-// behaviour or silently truncate (a checkpoint can be edited by hand).
-int64_t wholeNumber(const nlohmann::json& j, const std::string& what) {
+}  // namespace
+
+int64_t checkpointWholeNumber(const nlohmann::json& j, const std::string& what) {
     if (j.is_number_unsigned() && j.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
         throw InputError(fmt::format("{} is {}, out of range", what, j.dump()));
     if (!j.is_number_integer()) throw InputError(fmt::format("{} is {}, not a whole number", what, j.dump()));
     return j.get<int64_t>();
 }
-
-}  // namespace
 
 // The sums of image i after `passes` passes: image<i>-<passes>.f64.
 std::string imageFileName(size_t i, int passes) { return fmt::format("image{}-{}.f64", i, passes); }
@@ -96,7 +94,7 @@ ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash,
                                          sensor.empty() ? "for every sensor" : "with --sensor " + sensor,
                                          shape.sensor.empty() ? "every sensor" : "only --sensor " + shape.sensor));
         st.irHash = irHash;
-        const int64_t done = wholeNumber(j.at("passes_done"), "passes_done");
+        const int64_t done = checkpointWholeNumber(j.at("passes_done"), "passes_done");
         if (!(done >= 1 && done < shape.passes))
             throw InputError(fmt::format("passes_done is {}; a checkpoint of this {}-pass run holds 1 to {} passes", done,
                                          shape.passes, shape.passes - 1));
@@ -108,7 +106,7 @@ ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash,
         if (sizes.size() != shape.imageSizes.size())
             throw InputError(fmt::format("it holds {} images, this run renders {}", sizes.size(), shape.imageSizes.size()));
         for (size_t i = 0; i < sizes.size(); ++i) {
-            const int64_t n = wholeNumber(sizes[i], fmt::format("image_sizes[{}]", i));
+            const int64_t n = checkpointWholeNumber(sizes[i], fmt::format("image_sizes[{}]", i));
             if (n < 0 || static_cast<uint64_t>(n) != shape.imageSizes[i])
                 throw InputError(fmt::format("image {} holds {} values, the sensor renders {}", i, n, shape.imageSizes[i]));
             const std::filesystem::path imageFile = dir / imageFileName(i, st.passesDone);

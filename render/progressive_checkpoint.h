@@ -6,9 +6,12 @@
 // `--resume` reads them back, checked against the resuming run.
 // Its own file so that the reader can be fuzzed without a renderer (fuzz/targets/fuzz_checkpoint.cpp).
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 namespace littoral::render {
 
@@ -38,5 +41,10 @@ void saveCheckpoint(const std::filesystem::path& dir, const ProgressiveState& st
 ProgressiveState loadCheckpoint(const std::filesystem::path& dir, size_t irHash, const CheckpointShape& shape);
 // The file of image i's sums after `passes` passes.
 std::string imageFileName(size_t i, int passes);
+
+// A whole number of a checkpoint (progressive or tile): InputError naming `what` for a value that is
+// not one or lies beyond int64 (nlohmann's get<int64_t> of 1e300, 2.5 or 2^64 - 1 would be undefined
+// behaviour or silently truncate; a checkpoint can be edited by hand).
+int64_t checkpointWholeNumber(const nlohmann::json& j, const std::string& what);
 
 }  // namespace littoral::render

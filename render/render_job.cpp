@@ -317,10 +317,8 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     shape.sensor = opts.sensor;
     shape.passes = passes;
     shape.bands = static_cast<size_t>(scene.bandCount());
-    for (const ir::Sensor* s : sensors) {  // SensorImage::films(): the radiance, five products, the error
-        const size_t films = 1 + (s->waterProducts ? 5 : 0) + (s->samplesPerPixel >= 2 ? 1 : 0);
-        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * films);
-    }
+    for (const ir::Sensor* s : sensors)
+        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * filmCount(*s));
     if (probesToo)
         for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
     // A render in one pass saves its finished tiles instead (render/tile_checkpoint.h).

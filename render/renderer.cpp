@@ -269,6 +269,8 @@ std::vector<Film*> SensorImage::films() {
     return f;
 }
 
+size_t filmCount(const ir::Sensor& s) { return 1 + (s.waterProducts ? 5 : 0) + (s.samplesPerPixel >= 2 ? 1 : 0); }
+
 std::vector<const Film*> SensorImage::films() const {
     std::vector<const Film*> f;
     for (Film* p : const_cast<SensorImage*>(this)->films()) f.push_back(p);
@@ -447,6 +449,7 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     if (sensor.waterProducts) out.products = WaterProductFilms{out.film, out.film, out.film, out.film, out.film};
     const int spp = cam.samplesPerPixel();
     if (spp >= 2) out.standardError = out.film;
+    LITTORAL_CHECK(out.films().size() == filmCount(sensor));  // the checkpoints are sized by it
     TileCheckpoint* const ck = opts.checkpoint;
     if (ck) ck->restore(opts.checkpointSensor, out);  // the tiles a killed run finished
     const int nb = scene.bandCount();

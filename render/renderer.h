@@ -56,6 +56,9 @@ struct SensorImage {
     std::vector<Film*> films();
     std::vector<const Film*> films() const;
 };
+// How many films SensorImage::films() holds for a render of `s` (the radiance, five water products,
+// the standard error with two samples per pixel or more), for sizing checkpoints before rendering.
+size_t filmCount(const ir::Sensor& s);
 
 class EstimatorSet;
 // Renders one sensor of the scene with the render's estimators (one per band group).

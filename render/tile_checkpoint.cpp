@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "render/progressive_checkpoint.h"
 #include "render/renderer.h"
 
 namespace littoral::render {
@@ -18,11 +19,6 @@ namespace {
 constexpr const char* kFormat = "littoral-tile-checkpoint";
 
 std::string valuesFile(size_t sensor, int64_t generation) { return fmt::format("sensor{}-{}.f32", sensor, generation); }
-
-int64_t wholeNumber(const nlohmann::json& v, const std::string& what) {
-    if (!v.is_number_integer()) throw InputError(fmt::format("{} is {}, not a whole number", what, v.dump()));
-    return v.get<int64_t>();
-}
 
 }  // namespace
 
@@ -110,14 +106,14 @@ void TileCheckpoint::load() {
         if (j.at("sensor").get<std::string>() != sensor_)
             throw InputError(SourceLoc{file.string()}, "--resume: the checkpoint was made with another --sensor "
                                                        "selection; resume with the same one");
-        generation_ = wholeNumber(j.at("generation"), "generation");
+        generation_ = checkpointWholeNumber(j.at("generation"), "generation");
         if (generation_ < 1) throw InputError(fmt::format("generation is {}; it counts from 1", generation_));
         const auto& sensors = j.at("sensors");
         if (!sensors.is_array() || sensors.size() != values_.size())
             throw InputError(fmt::format("it holds {} sensors, this run renders {}", sensors.is_array() ? sensors.size() : 0,
                                          values_.size()));
         for (size_t k = 0; k < values_.size(); ++k) {
-            const int64_t n = wholeNumber(sensors[k].at("values"), fmt::format("sensors[{}].values", k));
+            const int64_t n = checkpointWholeNumber(sensors[k].at("values"), fmt::format("sensors[{}].values", k));
             const std::string done = sensors[k].at("done").get<std::string>();
             if (n < 0 || static_cast<uint64_t>(n) != filmValues_[k] || done.size() != slots_[k] ||
                 done.find_first_not_of("01") != std::string::npos)
