@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <string_view>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -133,6 +134,23 @@ void convertSamples(GDALRasterBand& band, const std::string& file, SourceRaster&
     }
 }
 
+// What reading one band costs, refused before GDAL allocates any of it: the samples as double plus
+// their missing-flags, and GDAL's own working set -- the band's blocks held in its block cache (at
+// most GDAL_CACHEMAX of them), but never less than one whole block. A pixel-interleaved file
+// (GeoTIFF PLANARCONFIG=CONTIG, ENVI BIP) decodes every band of a block to read one, so a file
+// declaring 65 000 interleaved bands needs 65 000 times the block (found by fuzz_raster).
+double decodingBytes(GDALDataset& ds, GDALRasterBand& band) {
+    const double samples = double(ds.GetRasterXSize()) * double(ds.GetRasterYSize());
+    int bx = 0, by = 0;
+    band.GetBlockSize(&bx, &by);
+    const char* il = ds.GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    const double bandsDecoded = il && std::string_view(il) == "PIXEL" ? std::max(1, ds.GetRasterCount()) : 1.0;
+    const double sampleBytes = std::max(1, GDALGetDataTypeSizeBytes(band.GetRasterDataType())) * bandsDecoded;
+    const double block = double(std::max(bx, 1)) * double(std::max(by, 1)) * sampleBytes;
+    const double cached = std::min(samples * sampleBytes, double(GDALGetCacheMax64()));
+    return 9.0 * samples + std::max(block, cached);
+}
+
 std::string formatName(GDALDataset& ds) {
     const std::string d = ds.GetDriver() ? ds.GetDriver()->GetDescription() : "";
     if (d == "GTiff" || d == "COG") return "GeoTIFF";
@@ -179,9 +197,10 @@ SourceRaster readGdalRaster(const std::string& gdalName, const std::string& file
         if (opt.channel < 0 || opt.channel >= bands)
             throw InputError(SourceLoc{file}, fmt::format("channel = {} but the raster has {} band(s) (0..{})",
                                                           opt.channel, bands, bands - 1));
-        // Decoding holds the samples twice at most (GDAL's block cache, then double): refuse before.
-        requireMemory(16.0 * double(src.nx) * double(src.ny),
-                      fmt::format("an elevation raster of {} x {} samples would", src.nx, src.ny), SourceLoc{file});
+        requireMemory(decodingBytes(*ds, *ds->GetRasterBand(opt.channel + 1)),
+                      fmt::format("decoding an elevation raster of {} x {} samples ({} band(s)) would", src.nx, src.ny,
+                                  bands),
+                      SourceLoc{file});
         double gt[6];
         src.hasGeotransform = ds->GetGeoTransform(gt) == CE_None;
         if (src.hasGeotransform) std::copy(gt, gt + 6, src.gt.begin());

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 
 #include "core/error.h"
@@ -47,7 +46,6 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vect
     px_ = dom.x1 - dom.x0, py_ = dom.y1 - dom.y0;
     auto sky = [&](int m) { return skyMedia[static_cast<size_t>(m)]; };
     const double minCos = -std::sin(std::min(0.5, halfAngle * kRimMargin));
-    double minUp = 1;  // the smallest |n_z| of the facets kept: the steepest
     scene.geometry().forEachTriangle([&](int mesh, int inst, uint32_t face, const Point3& a, const Point3& b,
                                          const Point3& c) {
         const int in = scene.insideMedium(mesh), out = scene.outsideMedium(mesh);
@@ -72,22 +70,8 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vect
         const double extent = std::max({std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x}),
                                         std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})});
         facets_.push_back({a, b, c, nAir, mesh, inst, face, extent, extent > 0.25 * std::min(px_, py_)});
-        minUp = std::min(minUp, std::abs(nAir.z));
     });
     if (!facets_.empty()) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
-    warnIfSteep(minUp);
-}
-
-// docs/rendering.md, Known limits: under a sinusoid with slopes to 68 deg the beams read 22 % low
-// (51 deg: within sampling). Said once per process: the beams are rebuilt per pass and band group.
-void FacetBeams::warnIfSteep(double minUp) {
-    static std::atomic<bool> warned{false};
-    const double tilt = rad2deg(std::acos(std::min(1.0, minUp)));
-    if (facets_.empty() || tilt <= kSteepFacetDeg || warned.exchange(true)) return;
-    log::warn("the water surface has facets tilted up to {:.0f} deg; above about {:.0f} deg the in-water sun through "
-              "the facet beams has been measured 22 % low (docs/rendering.md, Known limits): check sunlit in-water "
-              "values against the surface photon map",
-              tilt, kSteepFacetDeg);
 }
 
 bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {
@@ -116,19 +100,15 @@ bool FacetBeams::containsImage(const BeamFacet& f, const Point3& p, const Vec3& 
 bool FacetBeams::contains(int i, const Point3& p, const Vec3& d, double* s) const {
     const BeamFacet& f = facets_[static_cast<size_t>(i)];
     if (!periodic_) return containsImage(f, p, d, Vec3{0, 0, 0}, s);
-    // The image whose centroid lies nearest the line's crossing (two refinements: the crossing
-    // moves with the image when the facet is tilted). It is the only candidate for a facet smaller
-    // than a quarter period; a larger one is tested in the images around it too.
+    // The image whose centroid lies nearest the point where the line through p along d reaches the
+    // centroid's height. (Not where it meets the facet's plane: under a steep facet that plane is
+    // nearly parallel to the line, its crossing lies far from the facet, and the image nearest it
+    // is the wrong one; those beams were lost where they crossed a periodic wall, 22 % of the
+    // light under the 68-degree sinusoid.) It is the only candidate for a facet smaller than a
+    // quarter period; a larger one is tested in the images around it too.
     const Point3 g = (f.a + f.b + f.c) * (1.0 / 3.0);
-    Vec3 S{0, 0, 0};
-    const double dn = dot(f.nAir, d);
-    if (!(dn < 0)) return false;
-    for (int it = 0; it < 3; ++it) {
-        const Point3 q = p - d * (dot(f.nAir, p - f.a - S) / dn);
-        const Vec3 next{px_ * std::round((q.x - g.x) / px_), py_ * std::round((q.y - g.y) / py_), 0};
-        if (next.x == S.x && next.y == S.y) break;
-        S = next;
-    }
+    const Point3 q = p + d * ((g.z - p.z) / d.z);  // d.z < -kMinBeamSlope (refracted)
+    const Vec3 S{px_ * std::round((q.x - g.x) / px_), py_ * std::round((q.y - g.y) / py_), 0};
     if (!f.large) return containsImage(f, p, d, S, s);
     for (int jx = -1; jx <= 1; ++jx)
         for (int jy = -1; jy <= 1; ++jy)

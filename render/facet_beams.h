@@ -62,9 +62,6 @@ public:
     bool refracted(int i, const Vec3& ws, Vec3* d) const;
 
 private:
-    // Facets steeper than this (deg) draw a warning: docs/rendering.md, Known limits.
-    static constexpr double kSteepFacetDeg = 55;
-    void warnIfSteep(double minUp);
     // Does facet i's beam along d contain p? Sets *s (distance back to the facet).
     bool contains(int i, const Point3& p, const Vec3& d, double* s) const;
     bool containsImage(const BeamFacet& f, const Point3& p, const Vec3& d, const Vec3& S, double* s) const;

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/frame.h"
 #include "core/kinds.h"
+#include "core/log.h"
 #include "core/probe_quantities.h"
 #include "core/progress.h"
 #include "core/rng.h"
@@ -352,6 +353,31 @@ std::string kdCsv(const std::vector<ProbeValue>& values, const std::vector<Band>
     }
     if (s.empty()) return "";
     return "upper_probe,lower_probe,x_m,y_m,z_upper_m,z_lower_m,band_lo_um,band_hi_um,kd_per_m,kd_stderr_per_m\n" + s;
+}
+
+int warnAboutUncertainProbes(const std::vector<ProbeValue>& values, const std::vector<Band>& bands) {
+    constexpr double kRelative = 0.5;
+    int count = 0, total = 0;
+    double worst = 0;
+    std::string worstText;
+    for (const ProbeValue& v : values)
+        for (size_t b = 0; b < v.mean.size() && b < v.stderr_.size(); ++b) {
+            ++total;
+            const double m = std::abs(v.mean[b]), se = std::abs(v.stderr_[b]);
+            if (!(m > 0) || !(se > kRelative * m)) continue;
+            ++count;
+            if (se / m <= worst) continue;
+            worst = se / m;
+            const std::string band =
+                b < bands.size() ? fmt::format(" {:g}-{:g} um", bands[b].lo, bands[b].hi) : std::string();
+            worstText = fmt::format("{} {}{}: {:.4g} +- {:.4g}", v.probe, v.quantity, band, v.mean[b], v.stderr_[b]);
+        }
+    if (count > 0)
+        log::warn("{} of {} probe value(s) have a standard error above {:.0f} % of the value (worst: {}): a rare light "
+                  "path carries most of such a value (for example sunlight that one wave facet reflects into another, "
+                  "docs/rendering.md, Known limits); raise render.probe_samples, or compare with the photon maps",
+                  count, total, 100 * kRelative, worstText);
+    return count;
 }
 
 }  // namespace littoral::render

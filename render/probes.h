@@ -51,6 +51,10 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts = {});
 
+// Warns once (naming the worst) when probe values' standard errors exceed half of their values:
+// a rare path carries most of such a value (docs/rendering.md, Known limits). Returns how many.
+int warnAboutUncertainProbes(const std::vector<ProbeValue>& values, const std::vector<Band>& bands);
+
 // Adds the probe quantities' descriptors (name, doc; probes.cpp) to `registry`; called by
 // registerEstimatorKinds(), so that the scene-file parser reads the same names.
 void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry);

@@ -365,6 +365,8 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     }
     warnIfPathsWereCut(traced0, cut0, config);
     applyResponseBands(ir.render.responseBands, &res);
+    warnAboutUncertainProbes(res.probes, ir.render.responseBands.empty() ? scene.bands()
+                                                                         : nominalBands(ir.render.responseBands));
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint

@@ -28,6 +28,7 @@
 #include "bathymetry/geo_frame.h"
 #include "bathymetry/terrain.h"
 #include "core/error.h"
+#include "core/resource_limits.h"
 
 namespace lb = littoral::bathymetry;
 namespace fs = std::filesystem;
@@ -368,4 +369,29 @@ TEST(GdalRaster, CorruptFilesAreNamed) {
         }
     }
     EXPECT_GT(refused, 0);
+}
+
+// A pixel-interleaved file decodes every band of a block to read one (fuzz_raster found a
+// 64771 x 2 GeoTIFF declaring 65281 interleaved bands, whose one block is 16.9 GB). The budget
+// check counts them: 64 x 64 Float32 samples in 100 interleaved bands need 9 B/sample for the
+// read plus 4 B x 100 bands of GDAL's block cache, 1.67 MB, refused under a 1 MB budget; the same
+// grid in one band needs 53 kB and is read.
+TEST(GdalRaster, InterleavedBandsCountAgainstTheMemoryBudget) {
+    const lb::GeoFrame frame = lb::GeoFrame::utm(kLat, kLon);
+    RasterFile r = utmRaster(18, frame);
+    r.nx = r.ny = 64;
+    r.type = GDT_Float32;
+    r.bands = 100;
+    r.options = {"INTERLEAVE=PIXEL"};
+    const fs::path many = write("interleaved.tif", r);
+    r.bands = 1;
+    const fs::path one = write("one_band.tif", r);
+    const uint64_t before = littoral::memoryBudget();
+    littoral::setMemoryBudget(1u << 20);
+    const std::string m = inputErrorOf([&] { lb::loadRaster(many); });
+    EXPECT_NO_THROW(lb::loadRaster(one));
+    littoral::setMemoryBudget(before);
+    EXPECT_NE(m.find("interleaved.tif"), std::string::npos) << m;
+    EXPECT_NE(m.find("100 band(s)"), std::string::npos) << m;
+    EXPECT_NE(m.find("memory budget"), std::string::npos) << m;
 }
