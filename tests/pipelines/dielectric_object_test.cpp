@@ -31,29 +31,6 @@ namespace glint = littoral::testing_support::glint;
 
 namespace {
 
-// A unit cube, its base centred on the origin (z from 0 to 1), outward faces.
-const char* kCubeObj = R"(v -0.5 -0.5 0
-v 0.5 -0.5 0
-v 0.5 0.5 0
-v -0.5 0.5 0
-v -0.5 -0.5 1
-v 0.5 -0.5 1
-v 0.5 0.5 1
-v -0.5 0.5 1
-f 1 4 3
-f 1 3 2
-f 5 6 7
-f 5 7 8
-f 1 2 6
-f 1 6 5
-f 2 3 7
-f 2 7 6
-f 3 4 8
-f 3 8 7
-f 4 1 5
-f 4 5 8
-)";
-
 // The cube floats with half of it under water (draft 0.5 m) over a flat floor 2 m deep, in pure
 // water (n = 1.34), in a periodic 6 m x 5 m domain; glass n = 1.5 absorbing 0.2 m^-1.
 std::string cubeScene(double sunZenith, const std::string& floor, const std::string& render, const std::string& extra = "") {
@@ -71,7 +48,7 @@ std::string cubeScene(double sunZenith, const std::string& floor, const std::str
 
 fs::path writeScene(const std::string& name, const std::string& text) {
     const fs::path dir = scratchDir("dielectric_object", name);
-    writeTextFile(dir, "cube.obj", kCubeObj);
+    writeTextFile(dir, "cube.obj", kUnitCubeObj);
     return writeTextFile(dir, "scene.yaml", text);
 }
 

@@ -1,4 +1,8 @@
-// Issue 18: the path estimator, documented as the unbiased reference, under an explicit wave mesh.
+// Issue 18: sunlight through the facet beams, end to end. (1) The path estimator, documented as
+// the unbiased reference, under an explicit wave mesh. (2) A floating box's shadow on the floor
+// through the beams, against its geometric edges.
+//
+// (1)
 // A nadir view of a sandy seabed 3 m down under a Cox-Munk mesh (5 m/s, 0.1 m facets over a
 // 50 m domain), sun at 60 deg, black sky, clear water (a = 0.05 / m, no scattering): the in-water
 // sun reaches the sand through the facet beams (render/facet_beams.h). Earlier builds rendered
@@ -13,6 +17,9 @@
 // the image: the facets would have to tilt 30 deg, 3.4 standard deviations of the 5 m/s slopes.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include "render/image_output.h"
+#include "tests/support/glint.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -103,4 +111,79 @@ TEST(WavesEstimators, PathUnderACoxMunkMeshAgreesWithPhotonMapsAndWithMicrofacet
     // The checks bite: the tolerances are under 2.5 % and 5 % of the radiance (the earlier bias was 5-12x).
     EXPECT_LT(4 * std::hypot(path.meanStderr(), pm.meanStderr()), 0.025 * path.mean());
     EXPECT_LT(4 * std::hypot(path.realisationStderr(), rough.meanStderr()), 0.05 * path.mean());
+}
+
+// (2) A unit cube floats with draft 0.5 m (freeboard 0.5 m) on flat water 2 m deep; black floor and
+// box, black sky, pure water with a = 0, sun 40 deg from the zenith in the west (light travelling
+// +x). Ed probes 0.01 m above the floor (depth d = 1.99 m) cross the shadow's two edges along y = 0.
+// Geometry (Snell: theta_w = asin(sin 40 / 1.34) = 28.67 deg):
+//   the sunward edge is cast by the box's lower west corner, x_L = -0.5 + (d - 0.5) tan theta_w;
+//   the far edge by its upper east corner, x_R = 0.5 + 0.5 tan 40 + d tan theta_w
+// (light entering the water just east of the box, in its air shadow, is blocked above the water).
+// The 0.53 deg disc blurs each edge symmetrically by about +-0.006 m (x_L) and +-0.012 m (x_R), so
+// the half-lit point is the geometric edge; the 64 disc samples per probe put it within about
+// 0.001 m. Tolerance: 0.004 m, under one probe spacing (0.005 m) beyond that. The lit plateau must
+// read E cos 40 (1 - R_F(40 deg)) (Eq. 4.2 from tests/support/glint.h) within 0.2 % (the disc's
+// spread of T cos over 0.27 deg is 1e-5; the probes' own noise under 0.1 %).
+TEST(WavesEstimators, FloatingBoxShadowThroughTheBeamsHasItsGeometricEdges) {
+    const fs::path dir = scratchDir("waves_estimators", "box_shadow");
+    writeTextFile(dir, "cube.obj", kUnitCubeObj);
+    const double d = 1.99, tw = std::asin(std::sin(40 * M_PI / 180) / 1.34);
+    const double xL = -0.5 + (d - 0.5) * std::tan(tw), xR = 0.5 + 0.5 * std::tan(40 * M_PI / 180) + d * std::tan(tw);
+    auto line = [&](const char* name, double x0, double x1) {
+        return fmt::format("  - {{name: {}, line: {{from: [{}, 0, -1.99], to: [{}, 0, -1.99], count: 81}}, "
+                           "quantities: [Ed]}}\n",
+                           name, x0, x1);
+    };
+    const std::string text =
+        "scene: {name: box-shadow, domain: {x: [-4, 4], y: [-2.5, 2.5]}}\n"
+        "sun: {zenith_deg: 40, azimuth_deg: 270, irradiance: 1000}\n"
+        "sky: {radiance: 0}\n"
+        "water:\n  surface: {model: flat, size: [8, 5], spacing: 0.5}\n  optics: {absorption_per_m: 0}\n"
+        "bathymetry: {type: planar_slope, z0_m: -2, spacing_m: 1, material: floor}\n"
+        "objects:\n  - {name: box, mesh: cube.obj, materials: [floor], position_m: [0, 0], draft_m: 0.5}\n"
+        "materials:\n  - {name: floor, type: black}\n"
+        "probes:\n" + line("l", xL - 0.2, xL + 0.2) + line("r", xR - 0.2, xR + 0.2) +
+        "  - {name: lit, line: {from: [-2.5, 0, -1.99], to: [-1.5, 0, -1.99], count: 5}, quantities: [Ed]}\n"
+        "render: {probe_samples: 64, probe_batches: 2}\n";
+    const fs::path yaml = writeTextFile(dir, "scene.yaml", text);
+    const auto r = runLittoral(fmt::format("-q run '{}' --out '{}'", yaml.string(), (dir / "out").string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::map<std::string, std::vector<std::pair<double, double>>> rows;  // probe line -> (x, Ed)
+    std::ifstream csv(dir / "out" / "probes.csv");
+    std::string row;
+    std::getline(csv, row);
+    while (std::getline(csv, row)) {
+        std::vector<std::string> c;
+        std::stringstream ss(row);
+        for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+        ASSERT_GE(c.size(), 8u) << row;
+        rows[c[0].substr(0, c[0].find('_'))].emplace_back(std::stod(c[7]), std::stod(c[4]));
+    }
+    const double cosI = std::cos(40 * M_PI / 180);
+    const double lit = 1000 * cosI * (1 - glint::fresnelSinTan(cosI, 1.0, 1.34));
+    ASSERT_EQ(rows["lit"].size(), 5u);
+    for (const auto& [x, ed] : rows["lit"]) EXPECT_NEAR(ed, lit, 0.002 * lit) << "x " << x;
+    // The half-lit crossing, interpolated between the two probes that straddle lit / 2; `dark`
+    // says which side of the edge lies in the shadow.
+    auto crossing = [&](const std::vector<std::pair<double, double>>& v, bool darkAbove) -> double {
+        for (size_t k = 0; k + 1 < v.size(); ++k) {
+            const double a = v[k].second - 0.5 * lit, b = v[k + 1].second - 0.5 * lit;
+            if ((darkAbove ? a > 0 && b <= 0 : a <= 0 && b > 0))
+                return v[k].first + (v[k + 1].first - v[k].first) * a / (a - b);
+        }
+        return std::nan("");
+    };
+    ASSERT_EQ(rows["l"].size(), 81u);
+    ASSERT_EQ(rows["r"].size(), 81u);
+    const double foundL = crossing(rows["l"], true), foundR = crossing(rows["r"], false);
+    EXPECT_NEAR(foundL, xL, 0.004);
+    EXPECT_NEAR(foundR, xR, 0.004);
+    // Fully dark inside the shadow, fully lit outside it (0.1 m from the edges).
+    EXPECT_LT(rows["l"].back().second, 1e-6 * lit);
+    EXPECT_NEAR(rows["l"].front().second, lit, 0.002 * lit);
+    EXPECT_LT(rows["r"].front().second, 1e-6 * lit);
+    EXPECT_NEAR(rows["r"].back().second, lit, 0.002 * lit);
+    std::printf("[ box shadow ] edges at x = %.4f and %.4f m (geometric %.4f and %.4f), lit Ed %.2f (analytic %.2f)\n",
+                foundL, foundR, xL, xR, rows["lit"][0].second, lit);
 }

@@ -124,6 +124,29 @@ inline std::string replacedOnce(std::string text, const std::string& from, const
     return text;
 }
 
+// A unit cube as OBJ, its base centred on the origin (z from 0 to 1), outward faces.
+inline constexpr const char* kUnitCubeObj = R"(v -0.5 -0.5 0
+v 0.5 -0.5 0
+v 0.5 0.5 0
+v -0.5 0.5 0
+v -0.5 -0.5 1
+v 0.5 -0.5 1
+v 0.5 0.5 1
+v -0.5 0.5 1
+f 1 4 3
+f 1 3 2
+f 5 6 7
+f 5 7 8
+f 1 2 6
+f 1 6 5
+f 2 3 7
+f 2 7 6
+f 3 4 8
+f 3 8 7
+f 4 1 5
+f 4 5 8
+)";
+
 // A small valid scene: flat water over a planar seabed, one nadir frame sensor, one probe.
 // Used by the hostile-input and check-scene coverage tests: line 6 is the material, line 8 the
 // sensor, line 10 the probe.
