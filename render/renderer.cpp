@@ -7,6 +7,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -451,7 +452,7 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
     if (spp >= 2) out.standardError = out.film;
     LITTORAL_CHECK(out.films().size() == filmCount(sensor));  // the checkpoints are sized by it
     TileCheckpoint* const ck = opts.checkpoint;
-    if (ck) ck->restore(opts.checkpointSensor, out);  // the tiles a killed run finished
+    if (ck) ck->restore(opts.checkpointSensor, out.films());  // the tiles a killed run finished
     const int nb = scene.bandCount();
     const Tiling tiling(cam.width(), cam.height(), opts.tileSize);
     const auto& groups = estimators.groups();
@@ -491,7 +492,8 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
         const size_t chunk = ck ? std::max<size_t>(1, (nt + 15) / 16) : nt;
         for (size_t t0 = 0; t0 < nt; t0 += chunk) {
             runTiles(opts, tiling, progress.get(), renderTile, t0, t0 + chunk);
-            if (ck) ck->finished(opts.checkpointSensor, gi * nt + t0, gi * nt + std::min(nt, t0 + chunk), out);
+            if (ck) ck->finished(opts.checkpointSensor, gi * nt + t0, gi * nt + std::min(nt, t0 + chunk),
+                                 std::as_const(out).films());
         }
     }
     if (progress) progress->finish();

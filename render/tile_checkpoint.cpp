@@ -10,7 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "render/progressive_checkpoint.h"
-#include "render/renderer.h"
+#include "render/film.h"
 
 namespace littoral::render {
 
@@ -39,13 +39,13 @@ TileCheckpoint::TileCheckpoint(std::filesystem::path dir, size_t irHash, std::st
     lastSave_ = std::chrono::steady_clock::now();
 }
 
-void TileCheckpoint::restore(size_t sensor, SensorImage& img) const {
+void TileCheckpoint::restore(size_t sensor, const std::vector<Film*>& films) const {
     size_t k = 0;
-    for (Film* f : img.films())
+    for (Film* f : films)
         for (float& v : f->pixels) v = values_[sensor][k++];
 }
 
-void TileCheckpoint::finished(size_t sensor, size_t begin, size_t end, const SensorImage& img) {
+void TileCheckpoint::finished(size_t sensor, size_t begin, size_t end, const std::vector<const Film*>& films) {
     bool fresh = false;
     for (size_t s = begin; s < end; ++s) fresh = fresh || !done_[sensor][s], done_[sensor][s] = 1;
     if (!fresh) return;  // restored tiles: nothing new to save
@@ -55,7 +55,7 @@ void TileCheckpoint::finished(size_t sensor, size_t begin, size_t end, const Sen
     if (!sensorDone && !due) return;
     // A finished sensor's films are kept (later saves write them again); the current one's when saved.
     size_t k = 0;
-    for (const Film* f : img.films())
+    for (const Film* f : films)
         for (float v : f->pixels) values_[sensor][k++] = v;
     if (!due) return;
     save();

@@ -17,7 +17,7 @@
 
 namespace littoral::render {
 
-struct SensorImage;
+struct Film;
 
 class TileCheckpoint {
 public:
@@ -28,11 +28,15 @@ public:
     // --resume: reads the checkpoint in the folder. InputError located at its state.json if there is
     // none, if another IR or sensor selection made it, or if it does not fit this run.
     void load();
-    // Copies the saved values of `sensor` into the image's films (before rendering its tiles).
-    void restore(size_t sensor, SensorImage& img) const;
+    // Copies the saved values of `sensor` into its films (SensorImage::films(), before rendering
+    // its tiles).
+    void restore(size_t sensor, const std::vector<Film*>& films) const;
     bool done(size_t sensor, size_t slot) const { return done_[sensor][slot] != 0; }
-    // Marks slots [begin, end) of `sensor` done and saves every sensor (published at once).
-    void finished(size_t sensor, size_t begin, size_t end, const SensorImage& img);
+    // Marks slots [begin, end) of `sensor` done and saves every sensor (published at once); `films`
+    // the sensor's films as they stand.
+    void finished(size_t sensor, size_t begin, size_t end, const std::vector<const Film*>& films);
+    // The values of sensor k's films, end to end, as loaded or last kept.
+    const std::vector<float>& values(size_t k) const { return values_[k]; }
     const std::filesystem::path& dir() const { return dir_; }
 
 private:
