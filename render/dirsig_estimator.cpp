@@ -493,6 +493,8 @@ const KindInfo& dirsigEstimatorKind() {
              "scattering and diffuse events per photon path"},
             {"effective_scattering", "photons.effective_scattering", T::Boolean, 0, 0, 1, "",
              "DIRSIG's effective scattering coefficient (scattering within 0.01 sr of forward is unscattered)"},
+            {"photon_importance", "photons.importance", T::Boolean, 1, 0, 1, "",
+             "importance emission: photons start where a pilot found they store, weighted so the estimate is unchanged"},
             {"progressive_passes", "progressive.passes", T::Integer, 1, 1, 100000, "",
              "photon-map passes with shrinking radii"},
             {"progressive_alpha", "progressive.alpha", T::Real, 2.0 / 3.0, 0.05, 0.99, "",

@@ -230,7 +230,10 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
         c->marchStep = r.get<double>("march_step_m");
         c->effectiveScattering = r.get<bool>("effective_scattering");
     }
-    if (c->usesPhotons()) readPhotonPasses(ir.render, r, c);
+    if (c->usesPhotons()) {
+        readPhotonPasses(ir.render, r, c);
+        c->photonImportance = r.get<bool>("photon_importance");
+    }
     return surfacePM < 0 && mediumPM < 0 ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read "
                                            "only when a material uses solver surface-pm or the water uses solver medium-pm"
                                          : "";
@@ -382,6 +385,7 @@ EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progr
             ps.maxBounces = config_.photonMaxBounces;
             ps.maxSpecularDepth = config_.photonMaxSpecularDepth;
             ps.effectiveScattering = config_.effectiveScattering;
+            ps.importance = config_.photonImportance;
             ps.seed = scene.ir().render.seed;
             ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);
             ps.cellSize = std::max(config_.radiusAt(config_.surfaceRadius, pass), config_.radiusAt(config_.volumeRadius, pass));

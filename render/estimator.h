@@ -65,6 +65,7 @@ struct RenderConfig {
     // paths are not split, so a long specular chain costs no more than its length).
     int photonMaxSpecularDepth = 1000;
     bool effectiveScattering = false;
+    bool photonImportance = true;  // render.photons.importance
     int passes = 1;             // progressive passes
     double alpha = 2.0 / 3.0;   // radius reduction per pass (Knaus & Zwicker 2011)
     bool usesPhotons() const { return surfacePhotons > 0 || volumePhotons > 0; }

@@ -27,6 +27,9 @@ constexpr uint64_t kChunk = 16384;                // photons per chunk
 
 struct ChunkResult {
     PhotonMap surface, volume;
+    // The pilot's counts per source and emission cell (EmissionImportance): emitted, and stored
+    // anything. Empty outside the pilot.
+    std::vector<uint64_t> emitted, stored;
 };
 
 // One photon's walk through the scene: free flights and phase-function sampling in scattering
@@ -38,7 +41,8 @@ public:
         : scene_(scene), g_(g), st_(st), src_(PhotonSource::of(scene, g)),
           step_(scene, g, TransportMode::Importance, nullptr, st.maxSpecularDepth, InterfaceDraws{true, false}) {}
     const PhotonSource& source() const { return src_; }
-    void trace(uint64_t index, ChunkResult& out) const;
+    // Photon `index`, started by `importance` (nullptr: uniformly).
+    void trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance) const;
 
 private:
     // Russian roulette on the photon's power (survivors are scaled up by 1/q).
@@ -55,6 +59,8 @@ private:
     // A diffuse vertex: stores the photon (SurfacePM materials) and reflects it. False if it ends.
     bool reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Spec& w, RandomStream& rng,
                         ChunkResult& out) const;
+    // The photon's walk from its emission until it ends.
+    void walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) const;
 
     const Scene& scene_;
     BandGroup g_;
@@ -96,11 +102,18 @@ bool PhotonTracer::reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Sp
     return true;
 }
 
-void PhotonTracer::trace(uint64_t index, ChunkResult& out) const {
+void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance) const {
     RandomStream rng(st_.seed, kPhotonPassBase + st_.pass, index);
-    EmittedPhoton e = emitPhoton(scene_, src_, rng);
-    Ray ray = e.ray;
-    Spec w = e.power;
+    const EmittedPhoton e = emitPhoton(scene_, src_, rng, importance);
+    const size_t before = out.surface.size() + out.volume.size();
+    walk(e.ray, e.power, rng, out);
+    if (out.emitted.empty()) return;
+    const size_t k = static_cast<size_t>((e.fromSun ? 0 : EmissionImportance::N) + e.cell);
+    ++out.emitted[k];
+    if (out.surface.size() + out.volume.size() > before) ++out.stored[k];
+}
+
+void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) const {
     int medium = 0, events = 0, specular = 0, wraps = 0;
     for (;;) {
         SurfaceHit h;
@@ -180,11 +193,59 @@ PhotonSource PhotonSource::of(const Scene& scene, BandGroup g) {
     return s;
 }
 
-EmittedPhoton emitPhoton(const Scene& scene, const PhotonSource& src, RandomStream& rng) {
+EmissionImportance EmissionImportance::fromPilot(const std::vector<uint64_t>& emitted,
+                                                 const std::vector<uint64_t>& stored) {
+    EmissionImportance imp;
+    for (int s = 0; s < 2; ++s) {
+        // u_c: the share of the cell's pilot photons that stored (the source's mean where none started).
+        std::vector<double> u(N, 0.0);
+        uint64_t em = 0, st = 0;
+        for (int c = 0; c < N; ++c) em += emitted[s * N + c], st += stored[s * N + c];
+        double sum = 0;
+        for (int c = 0; c < N; ++c) {
+            const uint64_t e = emitted[s * N + c];
+            u[c] = e > 0 ? static_cast<double>(stored[s * N + c]) / static_cast<double>(e)
+                         : (em > 0 ? static_cast<double>(st) / static_cast<double>(em) : 1.0);
+            sum += u[c];
+        }
+        imp.cdf[s].resize(N);
+        imp.weight[s].resize(N);
+        double acc = 0;
+        for (int c = 0; c < N; ++c) {
+            const double p = sum > 0 ? 0.9 * u[c] / sum + 0.1 / N : 1.0 / N;
+            imp.weight[s][c] = (1.0 / N) / p;
+            acc += p;
+            imp.cdf[s][c] = acc;
+        }
+        for (double& v : imp.cdf[s]) v /= acc;  // exactly 1 at the end
+    }
+    return imp;
+}
+
+EmittedPhoton emitPhoton(const Scene& scene, const PhotonSource& src, RandomStream& rng,
+                         const EmissionImportance* importance) {
     const SunSource& sun = scene.sun();
     EmittedPhoton e;
     e.fromSun = rng.uniform() < src.pSun;
-    const double ux = rng.uniform(), uy = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+    double ux = rng.uniform(), uy = rng.uniform();
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    constexpr int K = EmissionImportance::kCells;
+    double weight = 1;
+    if (importance) {
+        // The cell from ux through the cell probabilities; ux's place within its step, and uy,
+        // place the photon uniformly inside the cell.
+        const std::vector<double>& cdf = importance->cdf[e.fromSun ? 0 : 1];
+        const int c = static_cast<int>(std::min<size_t>(std::upper_bound(cdf.begin(), cdf.end(), ux) - cdf.begin(),
+                                                        cdf.size() - 1));
+        const double lo = c > 0 ? cdf[static_cast<size_t>(c - 1)] : 0.0, hi = cdf[static_cast<size_t>(c)];
+        const double f = hi > lo ? std::clamp((ux - lo) / (hi - lo), 0.0, std::nextafter(1.0, 0.0)) : 0.5;
+        ux = (c % K + f) / K;
+        uy = (c / K + uy) / K;
+        weight = importance->weight[e.fromSun ? 0 : 1][static_cast<size_t>(c)];
+        e.cell = c;
+    } else {
+        e.cell = std::min(K - 1, static_cast<int>(uy * K)) * K + std::min(K - 1, static_cast<int>(ux * K));
+    }
     Ray& ray = e.ray;
     ray.o = {src.x0 + ux * src.lx, src.y0 + uy * src.ly, src.z};
     if (e.fromSun) ray.d = -sun.sampleDirection(u1, u2);
@@ -218,7 +279,7 @@ EmittedPhoton emitPhoton(const Scene& scene, const PhotonSource& src, RandomStre
     }
     // Relative power: Phi_source,b / (P(source) Phi_mean).
     e.power = (e.fromSun ? src.sunFlux * (1.0 / src.pSun) : src.skyFlux * (1.0 / (1.0 - src.pSun))) *
-              (1.0 / src.meanFlux);
+              (weight / src.meanFlux);
     return e;
 }
 
@@ -262,23 +323,40 @@ public:
                 results_[k].volume = PhotonMap(g_.count, false);
             }
         }
-        for (uint64_t k = 0; k < n; ++k) results_[k].surface.clear(), results_[k].volume.clear();
+        const bool pilot = st_.importance && chunk0_ == 0;
+        for (uint64_t k = 0; k < n; ++k) {
+            results_[k].surface.clear(), results_[k].volume.clear();
+            results_[k].emitted.assign(pilot ? 2 * EmissionImportance::N : 0, 0);
+            results_[k].stored.assign(pilot ? 2 * EmissionImportance::N : 0, 0);
+        }
+        const EmissionImportance* imp = importance_.cdf[0].empty() ? nullptr : &importance_;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 1), [&](const tbb::blocked_range<uint64_t>& rr) {
                 for (uint64_t c = rr.begin(); c != rr.end(); ++c) {
                     const uint64_t first = (chunk0_ + c) * kChunk;
-                    for (uint64_t k = 0; k < kChunk; ++k) tracer_.trace(first + k, results_[c]);
+                    for (uint64_t k = 0; k < kChunk; ++k) tracer_.trace(first + k, results_[c], imp);
                     flushRayStats();
                 }
             });
         });
         append(n);
         chunk0_ += n;
+        if (pilot) learnImportance(n);
     }
 
 private:
+    // The pilot of importance emission: a fixed number of chunks (the same for any thread count).
+    static constexpr uint64_t kPilotChunks = 4;
+    void learnImportance(uint64_t n) {
+        std::vector<uint64_t> emitted(2 * EmissionImportance::N, 0), stored(emitted.size(), 0);
+        for (uint64_t c = 0; c < n; ++c)
+            for (size_t k = 0; k < emitted.size(); ++k)
+                emitted[k] += results_[c].emitted[k], stored[k] += results_[c].stored[k];
+        importance_ = EmissionImportance::fromPilot(emitted, stored);
+    }
     uint64_t waveSize() const {
-        if (chunk0_ == 0) return std::min(perRound_, (maxEmitted_ + kChunk - 1) / kChunk);
+        const uint64_t cap = (maxEmitted_ + kChunk - 1) / kChunk;
+        if (chunk0_ == 0) return std::min(st_.importance ? kPilotChunks : perRound_, cap);
         double need = 0;
         auto still = [&](bool closed, uint64_t have, uint64_t target) {
             if (closed) return;
@@ -316,6 +394,7 @@ private:
     uint64_t maxEmitted_, perRound_;
     uint64_t chunk0_ = 0;
     std::vector<ChunkResult> results_;
+    EmissionImportance importance_;  // empty until the pilot is done
 };
 
 }  // namespace
@@ -360,8 +439,14 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     statCounter("photons stored (surface)").add(static_cast<int64_t>(maps.surface.size()));
     statCounter("photons stored (volume)").add(static_cast<int64_t>(maps.volume.size()));
     maps.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    log::debug("photon pass: {} emitted, {} surface and {} volume photons stored in {:.2f} s", maps.emitted,
-               maps.surface.size(), maps.volume.size(), maps.seconds);
+    log::info("photon pass: {} photons emitted{}, {} stored ({} surface, {} volume): {:.1f} % of the emitted, in "
+              "{:.2f} s",
+              maps.emitted, st.importance ? " (importance emission)" : "", maps.surface.size() + maps.volume.size(),
+              maps.surface.size(), maps.volume.size(),
+              maps.emitted > 0 ? 100.0 * static_cast<double>(maps.surface.size() + maps.volume.size()) /
+                                     static_cast<double>(maps.emitted)
+                               : 0.0,
+              maps.seconds);
     return maps;
 }
 

@@ -122,6 +122,41 @@ TEST(PhotonEmission, LandingPointsAreUniformOverTheDomain) {
     EXPECT_FALSE(res.rejectedAt(kAlpha)) << res.summary();
 }
 
+// Importance emission (render/photon_pass.h): a pilot in which only the western half of the
+// cells stored photons gives those cells p_c = 0.9 / 512 + 0.1 / 1024 each, so 95 % of the photons
+// start there, with weight (1 / N) / p_c = 1 / 1.9; the others weigh 10. The mean weight is 1
+// whatever the pilot said (sum_c p_c w_c = 1): the estimate is unchanged. 200 000 photons: the
+// western share and the mean weight each within 4 of their standard errors (binomial, and the
+// weights' spread over sqrt(n)).
+TEST(PhotonEmission, ImportanceFollowsThePilotAndKeepsTheMeanWeight) {
+    const Fixture& f = fixture();
+    constexpr int K = EmissionImportance::kCells, N = EmissionImportance::N;
+    std::vector<uint64_t> emitted(2 * N, 64), stored(2 * N, 0);
+    for (int s = 0; s < 2; ++s)
+        for (int c = 0; c < N; ++c)
+            if (c % K < K / 2) stored[s * N + c] = 20;
+    const EmissionImportance imp = EmissionImportance::fromPilot(emitted, stored);
+    EXPECT_NEAR(imp.weight[0][0], 1 / 1.9, 1e-12);
+    EXPECT_NEAR(imp.weight[0][K - 1], 10.0, 1e-9);
+    constexpr int n = 200000;
+    double west = 0, sumW = 0, sumW2 = 0;
+    for (int i = 0; i < n; ++i) {
+        RandomStream a(5, 7, i), b(5, 7, i);
+        const EmittedPhoton e = emitPhoton(*f.scene, f.src, a, &imp), u = emitPhoton(*f.scene, f.src, b);
+        ASSERT_EQ(e.fromSun, u.fromSun);
+        const double w = e.power[0] / u.power[0];
+        EXPECT_NEAR(e.power[1] / u.power[1], w, 1e-12 * w);
+        west += (e.cell % K) < K / 2;
+        sumW += w, sumW2 += w * w;
+    }
+    const double share = west / n, seShare = std::sqrt(0.95 * 0.05 / n);
+    const double meanW = sumW / n, seW = std::sqrt((sumW2 / n - meanW * meanW) / (n - 1));
+    EXPECT_NEAR(share, 0.95, 4 * seShare);
+    EXPECT_NEAR(meanW, 1.0, 4 * seW);
+    std::printf("[ info ] importance emission: %.4f of the photons start in the storing half (0.95), mean weight "
+                "%.4f +- %.4f\n", share, meanW, seW);
+}
+
 namespace {
 // Directions of the photons emitted from one source (the travel direction reversed: toward the
 // source), as chi-square results of the sun disc and of the sky hemisphere.
