@@ -197,22 +197,31 @@ EmissionImportance EmissionImportance::fromPilot(const std::vector<uint64_t>& em
                                                  const std::vector<uint64_t>& stored) {
     EmissionImportance imp;
     for (int s = 0; s < 2; ++s) {
-        // u_c: the share of the cell's pilot photons that stored (the source's mean where none started).
+        // u_c: the share of the cell's pilot photons that stored, shrunk toward the source's mean
+        // share by kPrior photons' worth (so that cells equally useful, ~64 pilot photons each, do
+        // not get weights that differ by their binomial noise).
+        constexpr double kPrior = 16;
         std::vector<double> u(N, 0.0);
         uint64_t em = 0, st = 0;
         for (int c = 0; c < N; ++c) em += emitted[s * N + c], st += stored[s * N + c];
+        const double mean = em > 0 ? static_cast<double>(st) / static_cast<double>(em) : 1.0;
         double sum = 0;
         for (int c = 0; c < N; ++c) {
-            const uint64_t e = emitted[s * N + c];
-            u[c] = e > 0 ? static_cast<double>(stored[s * N + c]) / static_cast<double>(e)
-                         : (em > 0 ? static_cast<double>(st) / static_cast<double>(em) : 1.0);
+            u[c] = (static_cast<double>(stored[s * N + c]) + kPrior * mean) /
+                   (static_cast<double>(emitted[s * N + c]) + kPrior);
             sum += u[c];
         }
         imp.cdf[s].resize(N);
         imp.weight[s].resize(N);
+        // Worth it only if the density stores at least kMinGain times as often per photon as the
+        // uniform one (sum_c p_c u_c against the mean u); else uniform, weight 1.
+        double gain = 0;
+        for (int c = 0; c < N; ++c) gain += sum > 0 ? (0.9 * u[c] / sum + 0.1 / N) * u[c] : 0.0;
+        gain = sum > 0 ? gain / (sum / N) : 1.0;
+        imp.active[s] = gain >= kMinGain;
         double acc = 0;
         for (int c = 0; c < N; ++c) {
-            const double p = sum > 0 ? 0.9 * u[c] / sum + 0.1 / N : 1.0 / N;
+            const double p = imp.active[s] ? 0.9 * u[c] / sum + 0.1 / N : 1.0 / N;
             imp.weight[s][c] = (1.0 / N) / p;
             acc += p;
             imp.cdf[s][c] = acc;
@@ -329,7 +338,7 @@ public:
             results_[k].emitted.assign(pilot ? 2 * EmissionImportance::N : 0, 0);
             results_[k].stored.assign(pilot ? 2 * EmissionImportance::N : 0, 0);
         }
-        const EmissionImportance* imp = importance_.cdf[0].empty() ? nullptr : &importance_;
+        const EmissionImportance* imp = importanceUsed() ? &importance_ : nullptr;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 1), [&](const tbb::blocked_range<uint64_t>& rr) {
                 for (uint64_t c = rr.begin(); c != rr.end(); ++c) {
@@ -339,10 +348,17 @@ public:
                 }
             });
         });
-        append(n);
-        chunk0_ += n;
+        // The pilot's photons only teach the emission density: their stores are dropped, so every
+        // stored photon comes from that one density (the pilot's uniform photons would carry up to
+        // 1 / (0.9 N u_c / sum u) times the flux of the others and dominate the noise).
+        // When the pilot finds nothing to gain, its photons were emitted as every later one will
+        // be: they are kept, and the maps are those of uniform emission, chunk for chunk.
         if (pilot) learnImportance(n);
+        if (pilot && importanceUsed()) pilotChunks_ = n;
+        else append(n);
+        chunk0_ += n;
     }
+    bool importanceUsed() const { return importance_.active[0] || importance_.active[1]; }
 
 private:
     // The pilot of importance emission: a fixed number of chunks (the same for any thread count).
@@ -357,22 +373,24 @@ private:
     uint64_t waveSize() const {
         const uint64_t cap = (maxEmitted_ + kChunk - 1) / kChunk;
         if (chunk0_ == 0) return std::min(st_.importance ? kPilotChunks : perRound_, cap);
+        const uint64_t kept = chunk0_ - pilotChunks_;  // chunks appended so far
+        const uint64_t left = (maxEmitted_ - chunk0_ * kChunk + kChunk - 1) / kChunk;
+        if (kept == 0) return std::min(perRound_, left);
         double need = 0;
         auto still = [&](bool closed, uint64_t have, uint64_t target) {
             if (closed) return;
-            const double perChunk = static_cast<double>(have) / static_cast<double>(chunk0_);
+            const double perChunk = static_cast<double>(have) / static_cast<double>(kept);
             need = std::max(need, perChunk > 0 ? static_cast<double>(target - have) / perChunk : 1e18);
         };
         still(closedS_, maps_.surface.size(), st_.surfaceTarget);
         still(closedV_, maps_.volume.size(), st_.volumeTarget);
         const double rounds = std::ceil(std::min(need * 1.05 + 1, 1e12) / static_cast<double>(perRound_));
         // Never more chunks than the emission cap leaves (done() stops the waves before it is reached).
-        const uint64_t left = (maxEmitted_ - chunk0_ * kChunk + kChunk - 1) / kChunk;
         return std::min(perRound_ * static_cast<uint64_t>(std::clamp(rounds, 1.0, 8.0)), left);
     }
     void append(uint64_t n) {
         for (uint64_t c = 0; c < n && !full(); ++c) {
-            const uint64_t emittedAfter = (chunk0_ + c + 1) * kChunk;
+            const uint64_t emittedAfter = (chunk0_ - pilotChunks_ + c + 1) * kChunk;  // the pilot not counted
             if (!closedS_) {
                 maps_.surface.append(results_[c].surface);
                 if (maps_.surface.size() >= st_.surfaceTarget) closedS_ = true, maps_.emittedSurface = emittedAfter;
@@ -395,6 +413,7 @@ private:
     uint64_t chunk0_ = 0;
     std::vector<ChunkResult> results_;
     EmissionImportance importance_;  // empty until the pilot is done
+    uint64_t pilotChunks_ = 0;
 };
 
 }  // namespace
@@ -441,7 +460,7 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     maps.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     log::info("photon pass: {} photons emitted{}, {} stored ({} surface, {} volume): {:.1f} % of the emitted, in "
               "{:.2f} s",
-              maps.emitted, st.importance ? " (importance emission)" : "", maps.surface.size() + maps.volume.size(),
+              maps.emitted, filler.importanceUsed() ? " (importance emission)" : "", maps.surface.size() + maps.volume.size(),
               maps.surface.size(), maps.volume.size(),
               maps.emitted > 0 ? 100.0 * static_cast<double>(maps.surface.size() + maps.volume.size()) /
                                      static_cast<double>(maps.emitted)

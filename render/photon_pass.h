@@ -25,10 +25,13 @@
 //  * Flux per photon (DIRSIG's rule): each map closes when it holds its target count; its flux
 //    per photon is the total source flux over the number of photons emitted until then.
 //  * Importance emission (`render.photons.importance`, on by default): a pilot of the first 4
-//    chunks (65 536 photons, emitted uniformly and kept) counts, per source and per cell of a
-//    32 x 32 grid over the domain's plan view, the photons that stored anything. The rest start in
-//    cell c with probability p_c = 0.9 u_c / sum u + 0.1 / N (u_c: the share of c's pilot photons
-//    that stored; N cells), and carry the weight (1 / N) / p_c, at most 10: each photon is still an
+//    chunks (65 536 photons, emitted uniformly; their stores are dropped and they are not counted
+//    as emitted) counts, per source and per cell of a 32 x 32 grid over the domain's plan view, the
+//    photons that stored anything. The rest start in cell c with probability
+//    p_c = 0.9 u_c / sum u + 0.1 / N (u_c: the share of c's pilot photons that stored, shrunk toward
+//    the source's mean by 16 photons' worth; N cells), and carry the weight (1 / N) / p_c, at most
+//    10 (for a source whose pilot predicts at least 1.1 times the uniform stores per photon; else
+//    it stays uniform, and if both do, the pilot's photons are kept): each photon is still an
 //    unbiased estimate of what a uniform one gives, so the maps' estimates are unchanged, while
 //    photons aimed at dry land and Classic materials, which store nothing, become rarer. The
 //    defensive tenth keeps every cell reachable (light from land that is reflected into the
@@ -95,7 +98,11 @@ struct EmittedPhoton {
 struct EmissionImportance {
     static constexpr int kCells = 32;
     static constexpr int N = kCells * kCells;
+    // Importance is used for a source only when the pilot predicts at least kMinGain times the
+    // uniform emission's stores per photon; otherwise that source stays uniform (weight 1).
+    static constexpr double kMinGain = 1.1;
     std::array<std::vector<double>, 2> cdf, weight;
+    std::array<bool, 2> active{false, false};
     // From the pilot's counts per source and cell: emitted and of those, the ones that stored.
     static EmissionImportance fromPilot(const std::vector<uint64_t>& emitted, const std::vector<uint64_t>& stored);
 };

@@ -205,12 +205,12 @@ void writeWaterProducts(const SensorImage& img, const std::filesystem::path& out
         EnviFields fields;
     };
     const std::vector<Product> products = {
-        {"water-leaving radiance", {"water-leaving radiance Lw", kEnviRadianceUnits}},
-        {"sky-reflected radiance", {"sky-reflected radiance", kEnviRadianceUnits}},
-        {"sun glint", {"sun glint radiance", kEnviRadianceUnits}},
-        {"other radiance", {"radiance not from the sea surface", kEnviRadianceUnits}},
-        {"Ed(0+)", {"downwelling plane irradiance Ed(0+) at the sea point", "W m^-2 um^-1"}},
-        {"Rrs", {"remote-sensing reflectance Rrs = Lw / Ed(0+)", "sr^-1"}}};
+        {"water-leaving radiance", {"water-leaving radiance Lw", kEnviRadianceUnits, ""}},
+        {"sky-reflected radiance", {"sky-reflected radiance", kEnviRadianceUnits, ""}},
+        {"sun glint", {"sun glint radiance", kEnviRadianceUnits, ""}},
+        {"other radiance", {"radiance not from the sea surface", kEnviRadianceUnits, ""}},
+        {"Ed(0+)", {"downwelling plane irradiance Ed(0+) at the sea point", "W m^-2 um^-1", ""}},
+        {"Rrs", {"remote-sensing reflectance Rrs = Lw / Ed(0+)", "sr^-1", ""}}};
     if (!img.products) {
         for (size_t k = 0; k < products.size(); ++k)
             removeStaleOutput(outDir / files[13 + 2 * k], products[k].what),

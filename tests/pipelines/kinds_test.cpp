@@ -672,7 +672,9 @@ TEST(KindDescriptors, MaterialTypeNumbersMatchTheIrReader) {
             for (const std::string& out : outsideTexts(p)) {
                 const std::string e = irError(materialIr(k, p.name, out));
                 EXPECT_NE(e.find("materials[0]." + p.name), std::string::npos) << e;
-                if (p.type != ParamType::Boolean) EXPECT_NE(e.find(p.rangeText()), std::string::npos) << e;
+                if (p.type != ParamType::Boolean) {
+                    EXPECT_NE(e.find(p.rangeText()), std::string::npos) << e;
+                }
             }
         }
     }
@@ -703,8 +705,9 @@ TEST(KindDescriptors, MaterialSceneKeysAndSolversMatchTheParser) {
                 const std::string e = parseError(base + type + ", " + key + ": 1.2}\n", &at);
                 EXPECT_FALSE(e.empty()) << key;
                 EXPECT_EQ(at.line, 3) << key << ": " << e;
-                if (key != "solver" && key != "reflectance")
+                if (key != "solver" && key != "reflectance") {
                     EXPECT_NE(e.find(sceneTypesWithKey(key)), std::string::npos) << e;
+                }
             }
     }
     // The solvers a lambertian may name are exactly its descriptor's, and every interface refuses

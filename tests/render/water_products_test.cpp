@@ -156,7 +156,9 @@ TEST(WaterProducts, PartsAddUpToTheRadianceAndLeaveItUnchanged) {
             EXPECT_LT(ed / sea, 945.0 + 1.0) << what;
             EXPECT_GT(lw, 0.0) << what;
             EXPECT_GT(reflected, 0.0) << what;
-            if (cam.samplesPerPixel == 1) EXPECT_GT(sky, 10) << what;
+            if (cam.samplesPerPixel == 1) {
+                EXPECT_GT(sky, 10) << what;
+            }
         }
 }
 
