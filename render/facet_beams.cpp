@@ -70,6 +70,7 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vect
         const double extent = std::max({std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x}),
                                         std::max({a.y, b.y, c.y}) - std::min({a.y, b.y, c.y})});
         facets_.push_back({a, b, c, nAir, mesh, inst, face, extent, extent > 0.25 * std::min(px_, py_)});
+        horizontal_ = horizontal_ && std::abs(nAir.z) >= 1 - 1e-12;
     });
     if (!facets_.empty()) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
 }

@@ -50,6 +50,9 @@ public:
     // the water)? Light through it reaches a point along two or more refractions, which the beams
     // do not follow: SunConnection then keeps the straight-path estimate for this medium.
     bool hasObjects() const { return objects_; }
+    // Are all the facets horizontal (flat water)? Their beams are then the one beam the straight
+    // path follows, which SunConnection traces instead, at the cost of one ray.
+    bool allHorizontal() const { return horizontal_; }
     size_t facetCount() const { return facets_.size(); }
     size_t entryCount() const { return entries_.size(); }
 
@@ -77,7 +80,7 @@ private:
 
     std::vector<BeamFacet> facets_;
     double eta_ = 1;        // 1 / n: air over the medium
-    bool periodic_ = false, objects_ = false;
+    bool periodic_ = false, objects_ = false, horizontal_ = true;
     double px_ = 0, py_ = 0;  // the domain's periods (periodic)
     double k0x_ = 0, k0y_ = 0;  // the reference direction's horizontal drift per unit depth
     // The grid: slab s covers z in (zTop - (s + 1) h, zTop - s h]; cell (i, j) covers sigma in

@@ -113,9 +113,13 @@ TEST(WavesEstimators, PathUnderACoxMunkMeshAgreesWithPhotonMapsAndWithMicrofacet
     EXPECT_LT(4 * std::hypot(path.realisationStderr(), rough.meanStderr()), 0.05 * path.mean());
 }
 
-// (2) A unit cube floats with draft 0.5 m (freeboard 0.5 m) on flat water 2 m deep; black floor and
+// (2) A unit cube floats with draft 0.5 m (freeboard 0.5 m) on water 2 m deep; black floor and
 // box, black sky, pure water with a = 0, sun 40 deg from the zenith in the west (light travelling
-// +x). Ed probes 0.01 m above the floor (depth d = 1.99 m) cross the shadow's two edges along y = 0.
+// +x). The surface is a sinusoid along y of 0.2 mm amplitude and 2 m wavelength: its facets tilt
+// (up to 6.3e-4 rad), so the sun goes through the facet beams (flat water takes the straight
+// path, the same beam), while along y = 0, an inflection line (troughs and crests at y = +-0.5),
+// it bends the light sideways only (by 1.6e-4 rad, moving nothing along x) and focuses it in
+// second order only: the flat-water geometry below holds to well under the tolerances. Ed probes 0.01 m above the floor (depth d = 1.99 m) cross the shadow's two edges along y = 0.
 // Geometry (Snell: theta_w = asin(sin 40 / 1.34) = 28.67 deg):
 //   the sunward edge is cast by the box's lower west corner, x_L = -0.5 + (d - 0.5) tan theta_w;
 //   the far edge by its upper east corner, x_R = 0.5 + 0.5 tan 40 + d tan theta_w
@@ -139,7 +143,8 @@ TEST(WavesEstimators, FloatingBoxShadowThroughTheBeamsHasItsGeometricEdges) {
         "scene: {name: box-shadow, domain: {x: [-4, 4], y: [-2.5, 2.5]}}\n"
         "sun: {zenith_deg: 40, azimuth_deg: 270, irradiance: 1000}\n"
         "sky: {radiance: 0}\n"
-        "water:\n  surface: {model: flat, size: [8, 5], spacing: 0.5}\n  optics: {absorption_per_m: 0}\n"
+        "water:\n  surface: {model: sinusoid, amplitude: 0.0002, wavelength: 2, phase: 0.5, waves_from_deg: 0, size: [8, 5], "
+        "spacing: 0.1, triangles: 0}\n  optics: {absorption_per_m: 0}\n"
         "bathymetry: {type: planar_slope, z0_m: -2, spacing_m: 1, material: floor}\n"
         "objects:\n  - {name: box, mesh: cube.obj, materials: [floor], position_m: [0, 0], draft_m: 0.5}\n"
         "materials:\n  - {name: floor, type: black}\n"
