@@ -72,7 +72,8 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vect
         facets_.push_back({a, b, c, nAir, mesh, inst, face, extent, extent > 0.25 * std::min(px_, py_)});
         horizontal_ = horizontal_ && std::abs(nAir.z) >= 1 - 1e-12;
     });
-    if (!facets_.empty()) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
+    // Flat water is not indexed: its beams are the straight path's, which SunConnection traces.
+    if (!facets_.empty() && !horizontal_) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
 }
 
 bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {
@@ -119,7 +120,7 @@ bool FacetBeams::contains(int i, const Point3& p, const Vec3& d, double* s) cons
 
 const int32_t* FacetBeams::cellOf(const Point3& p, int* count) const {
     *count = 0;
-    if (facets_.empty()) return nullptr;
+    if (offsets_.empty()) return nullptr;  // no facets, or flat ones (not indexed)
     const double depth = (zTop_ - p.z) / slab_;
     if (!(depth >= 0)) return nullptr;  // above every facet: no beam reaches up here
     const int s = std::min(nz_ - 1, static_cast<int>(depth));

@@ -51,7 +51,8 @@ public:
     // do not follow: SunConnection then keeps the straight-path estimate for this medium.
     bool hasObjects() const { return objects_; }
     // Are all the facets horizontal (flat water)? Their beams are then the one beam the straight
-    // path follows, which SunConnection traces instead, at the cost of one ray.
+    // path follows, which SunConnection traces instead, at the cost of one ray; they are not
+    // indexed (forEachContaining finds none).
     bool allHorizontal() const { return horizontal_; }
     size_t facetCount() const { return facets_.size(); }
     size_t entryCount() const { return entries_.size(); }

@@ -211,19 +211,20 @@ EmissionImportance EmissionImportance::fromPilot(const std::vector<uint64_t>& em
                    (static_cast<double>(emitted[s * N + c]) + kPrior);
             sum += u[c];
         }
+        // The importance density, worth it only if it stores at least kMinGain times as often per
+        // photon as the uniform one (sum_c p_c u_c against the mean u); else uniform, weight 1.
+        std::vector<double> p(N, 1.0 / N);
+        double gain = 0;
+        if (sum > 0)
+            for (int c = 0; c < N; ++c) p[c] = 0.9 * u[c] / sum + 0.1 / N, gain += p[c] * u[c];
+        imp.active[s] = sum > 0 && gain / (sum / N) >= kMinGain;
+        if (!imp.active[s]) p.assign(N, 1.0 / N);
         imp.cdf[s].resize(N);
         imp.weight[s].resize(N);
-        // Worth it only if the density stores at least kMinGain times as often per photon as the
-        // uniform one (sum_c p_c u_c against the mean u); else uniform, weight 1.
-        double gain = 0;
-        for (int c = 0; c < N; ++c) gain += sum > 0 ? (0.9 * u[c] / sum + 0.1 / N) * u[c] : 0.0;
-        gain = sum > 0 ? gain / (sum / N) : 1.0;
-        imp.active[s] = gain >= kMinGain;
         double acc = 0;
         for (int c = 0; c < N; ++c) {
-            const double p = imp.active[s] ? 0.9 * u[c] / sum + 0.1 / N : 1.0 / N;
-            imp.weight[s][c] = (1.0 / N) / p;
-            acc += p;
+            imp.weight[s][c] = (1.0 / N) / p[c];
+            acc += p[c];
             imp.cdf[s][c] = acc;
         }
         for (double& v : imp.cdf[s]) v /= acc;  // exactly 1 at the end

@@ -246,6 +246,11 @@ void applyResponseBands(const std::vector<ir::ResponseBand>& responses, RenderJo
     }
 }
 
+// The bands the outputs are labelled with: the render bands, or the response bands' nominal ones.
+std::vector<Band> outputBands(const ir::SceneIR& ir, const Scene& scene) {
+    return ir.render.responseBands.empty() ? scene.bands() : nominalBands(ir.render.responseBands);
+}
+
 // Writes every image set and the probe tables (the run's outputs, through atomic temporaries).
 void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesystem::path& outDir,
                   const RenderJobOptions& opts, RenderJobResult& res) {
@@ -280,8 +285,7 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
     }
     if (!res.probes.empty()) {
         const std::vector<std::string> files = probeOutputFiles();
-        const std::vector<Band> bands =
-            ir.render.responseBands.empty() ? scene.bands() : nominalBands(ir.render.responseBands);
+        const std::vector<Band> bands = outputBands(ir, scene);
         writeTextFileAtomic(outDir / files[0], probesCsv(res.probes, bands));
         writeTextFileAtomic(outDir / files[1], probesJson(res.probes, bands));
         const std::string kd = kdCsv(res.probes, bands);
@@ -365,8 +369,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     }
     warnIfPathsWereCut(traced0, cut0, config);
     applyResponseBands(ir.render.responseBands, &res);
-    warnAboutUncertainProbes(res.probes, ir.render.responseBands.empty() ? scene.bands()
-                                                                         : nominalBands(ir.render.responseBands));
+    warnAboutUncertainProbes(res.probes, outputBands(ir, scene));
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint
