@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/ranks.h"
 #include "core/log.h"
 #include "core/resource_limits.h"
 
@@ -344,6 +345,7 @@ size_t removeTemporariesOf(const fs::path& dir, long pid) {
 
 OutputFolderLock::OutputFolderLock(const fs::path& dir, std::string_view option) {
     checkOutputFolder(dir, option);  // the same messages as before any work (a file in the way, read-only)
+    if (!isRootRank()) return;       // an MPI run's rank 0 holds the lock for all its ranks (core/ranks.h)
     createOutputFolder(dir, option);
     path_ = (dir.empty() ? fs::path(".") : dir).string() + "/" + kFileName;
     const std::string prefix = option.empty() ? std::string() : std::string(option) + ": ";

@@ -88,7 +88,8 @@ inline void writeTextFileAtomic(const std::filesystem::path& target, const std::
 // refused (InputError naming the folder and the owner) while the owner runs; a lock left by a
 // process that no longer runs (killed with SIGKILL, a crash) is taken over with a warning. The lock
 // is removed when the command ends, however it ends (also on SIGINT/SIGTERM). Creates the folder
-// (createOutputFolder) if it does not exist.
+// (createOutputFolder) if it does not exist. In an MPI run, rank 0 takes the lock for every rank (the
+// others only check the folder).
 class OutputFolderLock {
 public:
     explicit OutputFolderLock(const std::filesystem::path& dir, std::string_view option = "--out");

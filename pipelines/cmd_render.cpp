@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/progress.h"
+#include "core/ranks.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_geo_layers.h"
 #include "pipelines/lib_scene.h"
@@ -50,6 +51,7 @@ littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
         littoral::Progress::setEnabled(jo.progress);
         const auto t0 = std::chrono::steady_clock::now();
         auto res = littoral::render::runRenderJob(o->irDir, o->outDir, jo);
+        if (!littoral::isRootRank()) return;  // rank 0 of an MPI run writes the outputs and reports
         for (const auto& p : littoral::pipelines::writeGeoLayers(littoral::ir::readIR(o->irDir), res, o->outDir))
             res.written.push_back(p);
         for (const auto& p : res.written) littoral::log::info("wrote {}", p.string());

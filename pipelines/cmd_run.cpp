@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/progress.h"
+#include "core/ranks.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
 
@@ -24,7 +25,7 @@ littoral::CommandRegistrar reg{"run", [](CLI::App& app) {
         const littoral::OutputFolderLock lock(o->out);  // one command per output folder
         o->progress = !littoral::globalOptions().quiet;
         const auto summary = littoral::pipelines::runScene(*o);
-        std::printf("%s", summary.c_str());
+        if (littoral::isRootRank()) std::printf("%s", summary.c_str());
     });
 }};
 

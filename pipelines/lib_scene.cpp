@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/log.h"
+#include "core/ranks.h"
 #include "core/stats.h"
 #include "render/estimator.h"
 #include "render/render_job.h"
@@ -165,9 +166,51 @@ std::string resourceSummary() {
     return s;
 }
 
+namespace {
+
+// `run` under MPI ranks: rank 0 builds the scene and publishes its IR; then every rank renders the IR
+// it reads back, as `render` would.
+std::string runSceneOnRanks(const RunOptions& o, const fs::path& out, const fs::path& irDir) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string s;
+    if (isRootRank()) {
+        const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
+        checkRenderSettings(spec);
+        if (spec.sensors.empty() && spec.probes.empty())
+            throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to render "
+                                                 "(build makes its geometry alone)");
+        (void)scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
+        publishStagedOutputs();
+        s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    ranks().barrier();  // a failed build ends the job (pipelines/lib_mpi.h): the others wait here
+    const auto t1 = std::chrono::steady_clock::now();
+    const ir::SceneIR ir = ir::readIR(irDir);
+    render::RenderJobOptions jo;
+    jo.sensor = o.sensor, jo.threads = o.threads, jo.progress = o.progress, jo.preview = o.preview, jo.resume = o.resume;
+    jo.enviHeaderLines = [](const ir::SceneIR& i, const ir::Sensor& sn) { return enviGeoHeaderLines(i, sn); };
+    render::RenderJobResult res;
+    try {
+        res = render::runRenderJob(ir, irDir, out, jo);
+    } catch (const InputError& e) {
+        render::rethrowAtIrEntry(e, ir, irDir / "scene.json");
+    }
+    if (!isRootRank()) return s;
+    for (const auto& p : writeGeoLayers(ir, res, out)) res.written.push_back(p);
+    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s on {} MPI ranks{})\n", res.images.size(),
+                     res.probes.size(), out.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count(),
+                     ranks().size(), resourceSummary());
+    for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
+    return s;
+}
+
+}  // namespace
+
 std::string runScene(const RunOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
+    if (ranks().size() > 1) return runSceneOnRanks(o, out, irDir);
     const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
     checkRenderSettings(spec);  // before anything is written
     // A scene may be built for its geometry alone (check-scene and build warn); run has nothing to

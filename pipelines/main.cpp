@@ -7,7 +7,9 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -15,18 +17,67 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
+#include "core/ranks.h"
 #include "core/resource_limits.h"
 #include "core/stats.h"
 #include "core/version.h"
 #include "pipelines/command_registry.h"
+#include "pipelines/lib_mpi.h"
 #include "render/estimator_settings.h"
 
 namespace {
 
-void printInputError(const littoral::InputError& e) {
+std::string inputErrorText(const littoral::InputError& e) {
     const std::string loc = e.where().str();
-    if (loc.empty()) std::fprintf(stderr, "error: %s\n", e.message().c_str());
-    else std::fprintf(stderr, "%s: error: %s\n", loc.c_str(), e.message().c_str());
+    return loc.empty() ? "error: " + e.message() : loc + ": error: " + e.message();
+}
+
+// Under mpirun: the commands that share their work across ranks. Any other command would run once
+// per rank into the same outputs.
+void checkCommandTakesRanks(int argc, char** argv, const littoral::pipelines::MpiSession& mpi) {
+    if (mpi.size() < 2) return;
+    for (int i = 1; i < argc; ++i)
+        for (const auto& [name, setup] : littoral::commandRegistry())
+            if (name == argv[i]) {
+                if (name == "run" || name == "render") return;
+                throw littoral::InputError("`littoral " + name + "` does not use MPI ranks (only run and render do): "
+                                           "run it without mpirun");
+            }
+}
+
+// Parses the command line and runs the command. Returns the exit code; on failure `message` holds
+// the error as printed (on stderr, by rank 0 of an MPI run or by the only process).
+int runCommand(CLI::App& app, int argc, char** argv, const littoral::pipelines::MpiSession& mpi, std::string* message) {
+    using namespace littoral;
+    int rc = 0;
+    try {
+        checkCommandTakesRanks(argc, argv, mpi);
+        // Every file a command writes belongs to this set: all of it is published when the
+        // command succeeds, none of it when it fails.
+        OutputSet outputs;
+        app.parse(argc, argv);
+        outputs.commit();
+        return exitCode();
+    } catch (const CLI::ParseError& e) {
+        const int code = isRootRank() ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
+        *message = e.what();
+        return code == 0 ? 0 : 1;
+    } catch (const InputError& e) {
+        *message = inputErrorText(e), rc = 1;
+    } catch (const std::filesystem::filesystem_error& e) {
+        // The file system refused something (permissions, a file where a folder should be, a full
+        // disk): the user can fix it, so it is not an internal error.
+        const std::string p = e.path1().string();
+        *message = p + (p.empty() ? "" : ": ") + "error: " + e.code().message(), rc = 1;
+    } catch (const std::bad_alloc&) {
+        *message = "error: out of memory; lower the sizes in the input, or the memory budget (--max-memory) so that "
+                   "such inputs are refused up front",
+        rc = 1;
+    } catch (const std::exception& e) {  // InternalError and everything unexpected
+        *message = std::string("internal error: ") + e.what(), rc = 2;
+    }
+    if (isRootRank()) std::fprintf(stderr, "%s\n", message->c_str());
+    return rc;
 }
 
 // Every floating-point option of every command refuses nan and inf before the command runs
@@ -58,13 +109,26 @@ int main(int argc, char** argv) {
     installInterruptCleanup();
     // The estimators' descriptors, which the scene-file parser reads (render/estimator_settings.h).
     render::registerEstimatorKinds();
+    // Under mpirun, MPI and the ranks (pipelines/lib_mpi.h); ranks other than 0 stay silent.
+    std::unique_ptr<pipelines::MpiSession> mpi;
+    try {
+        mpi = std::make_unique<pipelines::MpiSession>(&argc, &argv);
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "%s\n", inputErrorText(e).c_str());
+        return 1;
+    }
+    auto& g = globalOptions();
+    if (!isRootRank()) {
+        g.quiet = true;
+        Progress::setEnabled(false);
+        log::setLevel(log::Level::Quiet);
+    }
 
     CLI::App app{"Littoral: coastal ocean scene generation and physically based rendering"};
     app.set_version_flag("--version", std::string("littoral ") + LITTORAL_VERSION);
     app.require_subcommand(1);
     // Global options may also follow the subcommand (`littoral waves --max-memory 2G`).
     app.fallthrough();
-    auto& g = globalOptions();
     app.add_flag("--stats", g.stats, "Print named statistics counters when the command ends");
     // Flag callbacks of the main app run before any subcommand's callback, so --quiet takes
     // effect for the whole command.
@@ -80,37 +144,8 @@ int main(int argc, char** argv) {
         ->type_name("SIZE");
     for (auto& [name, setup] : commandRegistry()) setup(app);
     refuseNonFiniteNumbers(app);
-    int rc = 0;
-    try {
-        // Every file a command writes belongs to this set: all of it is published when the
-        // command succeeds, none of it when it fails.
-        OutputSet outputs;
-        app.parse(argc, argv);
-        outputs.commit();
-        rc = exitCode();
-    } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : 1;
-    } catch (const InputError& e) {
-        printInputError(e);
-        return 1;
-    } catch (const std::filesystem::filesystem_error& e) {
-        // The file system refused something (permissions, a file where a folder should be, a full
-        // disk): the user can fix it, so it is not an internal error.
-        const std::string p = e.path1().string();
-        std::fprintf(stderr, "%s%serror: %s\n", p.c_str(), p.empty() ? "" : ": ", e.code().message().c_str());
-        return 1;
-    } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "error: out of memory; lower the sizes in the input, or the memory budget "
-                             "(--max-memory) so that such inputs are refused up front\n");
-        return 1;
-    } catch (const InternalError& e) {
-        std::fprintf(stderr, "internal error: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "internal error: %s\n", e.what());
-        return 2;
-    }
-    if (g.stats) statsPrint(std::cerr);
-    return rc;
+    std::string message;
+    const int rc = runCommand(app, argc, argv, *mpi, &message);
+    if (rc == 0 && g.stats && isRootRank()) statsPrint(std::cerr);
+    return mpi->finish(rc, message);
 }

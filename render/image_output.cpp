@@ -7,7 +7,9 @@
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -41,7 +43,23 @@ std::string encodeImage(const fs::path& target, const OIIO::ImageSpec& spec, OII
     OIIO::Filesystem::IOVecOutput vec(bytes);
     if (!out->supports("ioproxy") || !out->set_ioproxy(&vec))
         throw InternalError("the OpenImageIO " + ext + " writer cannot encode into memory");
-    if (!out->open("memory." + ext, spec)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
+    // With SOURCE_DATE_EPOCH set (the reproducible-builds convention), the EXR's DateTime is that
+    // time, not now: two runs of one scene then write the same bytes (OpenImageIO stamps the time
+    // of writing otherwise).
+    OIIO::ImageSpec stamped = spec;
+    if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH"); epoch && ext == "exr") {
+        char* end = nullptr;
+        const long long t = std::strtoll(epoch, &end, 10);
+        if (end != epoch && *end == '\0' && t >= 0) {
+            const std::time_t tt = static_cast<std::time_t>(t);
+            std::tm utc{};
+            gmtime_r(&tt, &utc);
+            char buf[32];
+            std::strftime(buf, sizeof buf, "%Y:%m:%d %H:%M:%S", &utc);
+            stamped.attribute("DateTime", buf);
+        }
+    }
+    if (!out->open("memory." + ext, stamped)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
     if (!out->write_image(type, data)) {
         const std::string err = libraryMessage(out->geterror());
         out->close();

@@ -109,6 +109,18 @@ void PhotonMap::append(const PhotonMap& o) {
     pow_.insert(pow_.end(), o.pow_.begin(), o.pow_.end());
 }
 
+void PhotonMap::pack(ByteWriter& w) const {
+    w.putArray(pos_.data(), pos_.size());
+    w.putArray(dir_.data(), dir_.size());
+    w.putArray(nrm_.data(), nrm_.size());
+    w.putArray(pow_.data(), pow_.size());
+}
+
+void PhotonMap::unpack(ByteReader& r) {
+    r.getArray(pos_), r.getArray(dir_), r.getArray(nrm_), r.getArray(pow_);
+    LITTORAL_CHECK(dir_.size() * 3 == pos_.size() && pow_.size() == dir_.size() * static_cast<size_t>(bands_));
+}
+
 void PhotonMap::reserve(size_t n) {
     pos_.reserve(3 * n), dir_.reserve(n);
     if (normals_) nrm_.reserve(n);

@@ -23,6 +23,7 @@
 
 #include "core/bbox.h"
 #include "core/large_buffer.h"
+#include "core/ranks.h"
 #include "core/vec.h"
 #include "render/spectral.h"
 
@@ -44,6 +45,10 @@ public:
     void add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power);
     // Appends all photons of another map (same bands and layout), in order.
     void append(const PhotonMap& other);
+    // The records (before build()) as bytes, for moving a chunk's photons between ranks; unpack
+    // replaces this map's records with those packed (same bands and layout).
+    void pack(ByteWriter& w) const;
+    void unpack(ByteReader& r);
     // Capacity for n photons (no reallocation while adding up to n); clear() keeps the capacity.
     void reserve(size_t n);
     void clear();

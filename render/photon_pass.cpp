@@ -15,6 +15,7 @@
 #include "core/rng.h"
 #include "core/stats.h"
 #include "core/units.h"
+#include "render/distributed.h"
 #include "render/interaction.h"
 #include "render/sampling.h"
 
@@ -306,7 +307,9 @@ public:
         : tracer_(tracer), g_(g), st_(st), maps_(maps), closedS_(st.surfaceTarget == 0), closedV_(st.volumeTarget == 0),
           maxEmitted_(st.maxEmitted > 0 ? st.maxEmitted
                                         : std::max<uint64_t>(10'000'000, 1000 * std::max(st.surfaceTarget, st.volumeTarget))),
-          perRound_(static_cast<uint64_t>(std::max(2, st.threads > 0 ? st.threads : tbb::info::default_concurrency()))) {
+          // A round: a chunk for every thread of every rank.
+          perRound_(static_cast<uint64_t>(std::max(2, st.threads > 0 ? st.threads : tbb::info::default_concurrency())) *
+                    static_cast<uint64_t>(ranks().size())) {
         // The maps' final size is known to within a chunk: reserving it makes appending one copy.
         // (Capped by the memory budget's check of the targets, render/estimator.cpp.)
         auto reserve = [](PhotonMap& m, uint64_t target) {
@@ -340,15 +343,29 @@ public:
             results_[k].stored.assign(pilot ? 2 * EmissionImportance::N : 0, 0);
         }
         const EmissionImportance* imp = importanceUsed() ? &importance_ : nullptr;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 1), [&](const tbb::blocked_range<uint64_t>& rr) {
-                for (uint64_t c = rr.begin(); c != rr.end(); ++c) {
-                    const uint64_t first = (chunk0_ + c) * kChunk;
-                    for (uint64_t k = 0; k < kChunk; ++k) tracer_.trace(first + k, results_[c], imp);
-                    flushRayStats();
-                }
+        // The ranks of a run share the wave's chunks, and every rank gets every chunk's photons.
+        distributeItems(
+            n, 0, ShareWith::AllRanks,
+            [&](uint64_t c0, uint64_t c1) {
+                arena.execute([&] {
+                    tbb::parallel_for(tbb::blocked_range<uint64_t>(c0, c1, 1), [&](const tbb::blocked_range<uint64_t>& rr) {
+                        for (uint64_t c = rr.begin(); c != rr.end(); ++c) {
+                            const uint64_t first = (chunk0_ + c) * kChunk;
+                            for (uint64_t k = 0; k < kChunk; ++k) tracer_.trace(first + k, results_[c], imp);
+                            flushRayStats();
+                        }
+                    });
+                });
+            },
+            [&](uint64_t c, ByteWriter& w) {
+                results_[c].surface.pack(w), results_[c].volume.pack(w);
+                w.putArray(results_[c].emitted.data(), results_[c].emitted.size());
+                w.putArray(results_[c].stored.data(), results_[c].stored.size());
+            },
+            [&](uint64_t c, ByteReader& r) {
+                results_[c].surface.unpack(r), results_[c].volume.unpack(r);
+                r.getArray(results_[c].emitted), r.getArray(results_[c].stored);
             });
-        });
         // The pilot's photons only teach the emission density: their stores are dropped, so every
         // stored photon comes from that one density (the pilot's uniform photons would carry up to
         // 1 / (0.9 N u_c / sum u) times the flux of the others and dominate the noise).

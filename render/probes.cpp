@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "core/units.h"
+#include "render/distributed.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -264,8 +265,15 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
             std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
             std::vector<Spec> edSums(q == Quantity::Rrs ? chunkSums.size() : 0, Spec(g.count));
             tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
+            // The chunks are shared by the ranks of a run; each chunk's sums reach every rank.
+            auto chunkValues = [&](uint64_t c, auto&& f) {
+                for (int b = 0; b < g.count; ++b) f(chunkSums[c][b]);
+                if (!edSums.empty())
+                    for (int b = 0; b < g.count; ++b) f(edSums[c][b]);
+            };
+            distributeItems(chunkSums.size(), 0, ShareWith::AllRanks, [&](uint64_t c0, uint64_t c1) {
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range<size_t>(0, chunkSums.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1, 1), [&](const tbb::blocked_range<size_t>& r) {
                     for (size_t c = r.begin(); c != r.end(); ++c) {
                         const int batch = static_cast<int>(c / chunksPerBatch);
                         const int k0 = static_cast<int>(c % chunksPerBatch) * kChunk;
@@ -285,6 +293,9 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                     }
                 });
             });
+            },
+            [&](uint64_t c, ByteWriter& w) { chunkValues(c, [&](double& x) { w.put(x); }); },
+            [&](uint64_t c, ByteReader& r) { chunkValues(c, [&](double& x) { x = r.get<double>(); }); });
             batchStatistics(chunkSums, B, chunksPerBatch, perBatch, g, &v, edSums.empty() ? nullptr : &edSums);
         }
         out.push_back(std::move(v));

@@ -11,6 +11,7 @@
 #include "core/material_kinds.h"
 #include "core/stats.h"
 #include "core/output_names.h"
+#include "core/ranks.h"
 #include "core/render_budget.h"
 #include "core/suggest.h"
 #include "render/estimator.h"
@@ -363,13 +364,16 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         accumulate(state, images, probes);
         if (passes > 1) {
             log::info("progressive pass {} of {} done", pass, passes);
-            if (pass < passes) saveCheckpoint(ckptDir, state, shape);
+            if (pass < passes && isRootRank()) saveCheckpoint(ckptDir, state, shape);  // rank 0 holds the images
         }
         if (pass == passes) finish(state, &res.images, &res.probes, images, probes);
     }
     warnIfPathsWereCut(traced0, cut0, config);
     applyResponseBands(ir.render.responseBands, &res);
     warnAboutUncertainProbes(res.probes, outputBands(ir, scene));
+    // Rank 0 alone holds the images (the other ranks rendered their share of the tiles and sent
+    // them), and writes every output.
+    if (!isRootRank()) return res;
     writeOutputs(ir, scene, outDir, opts, res);
     std::error_code ec;
     std::filesystem::remove_all(ckptDir, ec);  // a finished run needs no checkpoint

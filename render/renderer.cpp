@@ -20,6 +20,7 @@
 #include "core/rng.h"
 #include "render/estimator.h"
 #include "render/sampling.h"
+#include "render/distributed.h"
 #include "render/tile_checkpoint.h"
 
 namespace littoral::render {
@@ -58,6 +59,17 @@ struct Tiling {
             for (int x = x0; x < x1; ++x) f(x, y);
     }
 };
+
+// Calls f(value) for every value of the image's films in `tile` and the bands of g (for moving
+// tiles between ranks).
+template <class F>
+void forTileValues(SensorImage& img, const Tiling& tiling, size_t tile, int nb, BandGroup g, F&& f) {
+    for (Film* film : img.films())
+        tiling.forEachPixel(tile, [&](int x, int y) {
+            float* p = film->pixels.data() + (static_cast<size_t>(y) * tiling.width + x) * nb + g.begin;
+            for (int b = 0; b < g.count; ++b) f(p[b]);
+        });
+}
 
 // Runs body(tile) for tiles [begin, end) (all of them by default) on the render's threads.
 template <class F>
@@ -369,11 +381,22 @@ std::vector<int> adaptiveSampleCounts(const RenderOptions& opts, const Tiling& t
                                       uint64_t firstPilot, int n0, double target, int cap) {
     const int w = tiling.width, h = tiling.height;
     std::vector<double> need(static_cast<size_t>(w) * h);
-    runTiles(opts, tiling, nullptr, [&](size_t tile) {
-        tiling.forEachPixel(tile, [&](int x, int y) {
-            need[static_cast<size_t>(y) * w + x] = samplesForTarget(sampler(x, y, firstPilot, n0), n0, target, cap);
-        });
-    });
+    // The pilot's tiles are shared by the ranks; every rank gets every pixel's need (the counts
+    // below look at the neighbours).
+    auto needOfTile = [&](size_t tile, auto&& f) {
+        tiling.forEachPixel(tile, [&](int x, int y) { f(need[static_cast<size_t>(y) * w + x]); });
+    };
+    distributeItems(
+        tiling.count(), 0, ShareWith::AllRanks,
+        [&](uint64_t b, uint64_t e) {
+            runTiles(opts, tiling, nullptr, [&](size_t tile) {
+                tiling.forEachPixel(tile, [&](int x, int y) {
+                    need[static_cast<size_t>(y) * w + x] = samplesForTarget(sampler(x, y, firstPilot, n0), n0, target, cap);
+                });
+            }, b, e);
+        },
+        [&](uint64_t t, ByteWriter& wr) { needOfTile(t, [&](double& v) { wr.put(v); }); },
+        [&](uint64_t t, ByteReader& rd) { needOfTile(t, [&](double& v) { v = rd.get<double>(); }); });
     std::vector<int> n(need.size());
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -488,13 +511,22 @@ SensorImage renderSensor(const Scene& scene, const EstimatorSet& estimators, con
                 storePixel(out, ps, pixel * nb + g.begin, g.count, n, nonFinite);
             });
         };
-        // With a checkpoint, the tiles go in 16 chunks, each saved when it is done.
+        // With a checkpoint, the tiles go in 16 chunks, each saved when it is done. Several ranks
+        // share each chunk's tiles, and rank 0 receives them before it saves.
         const size_t chunk = ck ? std::max<size_t>(1, (nt + 15) / 16) : nt;
         for (size_t t0 = 0; t0 < nt; t0 += chunk) {
-            runTiles(opts, tiling, progress.get(), renderTile, t0, t0 + chunk);
-            if (ck) ck->finished(opts.checkpointSensor, gi * nt + t0, gi * nt + std::min(nt, t0 + chunk),
-                                 std::as_const(out).films());
+            const size_t t1 = std::min(nt, t0 + chunk);
+            distributeItems(
+                t1 - t0, 0, ShareWith::Root,
+                [&](uint64_t b, uint64_t e) { runTiles(opts, tiling, progress.get(), renderTile, t0 + b, t0 + e); },
+                [&](uint64_t i, ByteWriter& w) { forTileValues(out, tiling, t0 + i, nb, g, [&](float& v) { w.put(v); }); },
+                [&](uint64_t i, ByteReader& r) { forTileValues(out, tiling, t0 + i, nb, g, [&](float& v) { v = r.get<float>(); }); });
+            if (ck) ck->finished(opts.checkpointSensor, gi * nt + t0, gi * nt + t1, std::as_const(out).films());
         }
+    }
+    if (ranks().size() > 1) {  // the counts of every rank's tiles, for the reports below
+        const std::vector<int64_t> sums = sumOverRanks({nonFinite.load(), samples.load(), capped.load()});
+        nonFinite = sums[0], samples = sums[1], capped = sums[2];
     }
     if (progress) progress->finish();
     if (nonFinite.load() > 0)

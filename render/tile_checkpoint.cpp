@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "core/ranks.h"
 #include "core/error.h"
 #include "render/progressive_checkpoint.h"
 #include "render/film.h"
@@ -63,6 +64,7 @@ void TileCheckpoint::finished(size_t sensor, size_t begin, size_t end, const std
 }
 
 void TileCheckpoint::save() {
+    if (!isRootRank()) return;  // rank 0 receives every rank's tiles and saves them
     ++generation_;
     // Written at once, outside the command's output set (a checkpoint exists to survive the run),
     // without publishing what the set has staged so far.

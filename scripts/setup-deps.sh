@@ -21,6 +21,7 @@ PACKAGES=(
   libgdal-dev                # GeoTIFF and ENVI georeferencing (pipelines/lib_geotiff.cpp)
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib   # the Python package (python/)
   clang libclang-rt-14-dev   # libFuzzer targets (fuzz/), smoke-run by the test suite
+  libopenmpi-dev openmpi-bin # MPI runs (pipelines/lib_mpi.cpp) and their tests under mpirun
 )
 
 missing=()

@@ -1,0 +1,253 @@
+// MPI runs (pipelines/lib_mpi.h, core/ranks.h): `mpirun -np N littoral run|render` writes the same
+// files, byte for byte, as one process with the same seeds and totals, for photon-map scenes (the
+// photon chunks shared by the ranks), path-traced ones (tiles, the adaptive pilot and the probe
+// chunks shared) and resumed runs (a checkpoint made by 2 ranks, finished by 3). These are exact
+// checks: every item's result depends only on its number, so any difference is a defect.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace littoral::testing_support;
+
+namespace {
+
+#ifdef LITTORAL_MPIEXEC
+constexpr const char* kMpiexec = LITTORAL_MPIEXEC;
+#else
+constexpr const char* kMpiexec = "";
+#endif
+
+// The scene of the hostile-input tests, rendered by the path estimator with per-pixel convergence
+// (so the adaptive pilot is shared too), standard-error images (4 samples per pixel) and probes.
+std::string pathScene() {
+    std::string s = replacedOnce(kSmallScene, "width: 16, height: 12}", "width: 16, height: 12, samples_per_pixel: 4}");
+    s = replacedOnce(s, "quantities: [Ed]}", "quantities: [Ed, Eu]}\n  - {name: q, position: [1, 1, -0.5], quantities: [Eod]}");
+    return replacedOnce(s, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                        "render: {estimator: path, probe_samples: 4096, target_relative_error: 0.3, "
+                        "max_samples_per_pixel: 16}");
+}
+
+// The same scene with surface and volume maps of `photons` photons each, in `passes` progressive
+// passes.
+std::string photonScene(int passes, int photons = 40000) {
+    std::string s = replacedOnce(kSmallScene, "reflectance: 0.2}", "reflectance: 0.2, solver: surface-pm}");
+    return replacedOnce(s, "render: {probe_samples: 64, hemisphere_samples: 4}",
+                        "render: {probe_samples: 256, hemisphere_samples: 4, photons: {surface: " + std::to_string(photons) +
+                        ", volume: " + std::to_string(photons) + "}, progressive: {passes: " + std::to_string(passes) + "}}");
+}
+
+std::string readBytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Every file under `dir` (relative path -> bytes), but the folder lock; the build's validity.json
+// without its "seconds" (the time of each build stage, which differ from run to run).
+std::map<std::string, std::string> filesUnder(const fs::path& dir) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (e.is_regular_file() && e.path().filename() != ".littoral.lock") {
+            std::string bytes = readBytes(e.path());
+            if (e.path().filename() == "validity.json") {
+                nlohmann::json j = nlohmann::json::parse(bytes);
+                EXPECT_EQ(j.erase("seconds"), 1u) << e.path();
+                bytes = j.dump();
+            }
+            files[fs::relative(e.path(), dir).string()] = bytes;
+        }
+    return files;
+}
+
+void expectSameFiles(const fs::path& expected, const fs::path& actual) {
+    const auto a = filesUnder(expected), b = filesUnder(actual);
+    ASSERT_FALSE(a.empty());
+    for (const auto& [name, bytes] : a) {
+        const auto it = b.find(name);
+        if (it == b.end()) {
+            ADD_FAILURE() << actual / name << " is missing";
+            continue;
+        }
+        EXPECT_TRUE(it->second == bytes) << actual / name << " differs from " << expected / name;
+    }
+    for (const auto& [name, bytes] : b) EXPECT_TRUE(a.count(name)) << actual / name << " is extra";
+}
+
+std::string mpirunPrefix(int ranks) { return fmt::format("{} -np {} --oversubscribe ", kMpiexec, ranks); }
+
+// `mpirun -np RANKS littoral ARGS...` as a child process (output discarded), for signalling it.
+pid_t spawnOnRanks(int ranks, const std::vector<std::string>& args) {
+    std::vector<std::string> argv{kMpiexec, "-np", std::to_string(ranks), "--oversubscribe", littoralBinary().string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (auto& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = -1;
+    const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    return rc == 0 ? pid : -1;
+}
+
+CommandResult runOnRanks(int ranks, const std::string& args) {
+    CommandResult r;
+    const std::string cmd = mpirunPrefix(ranks) + littoralBinary().string() + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+// Waits (at most 60 s) until `file` exists and holds `text`, then stops mpirun (SIGTERM, which it
+// forwards to the ranks) and waits for it. Whether the file was seen.
+bool stopOnceWritten(pid_t pid, const fs::path& file, const std::string& text) {
+    bool seen = false;
+    for (int i = 0; i < 12000 && !seen; ++i) {
+        seen = fs::exists(file) && readBytes(file).find(text) != std::string::npos;
+        if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ::kill(pid, SIGTERM);
+    int st = 0;
+    waitpid(pid, &st, 0);
+    return seen;
+}
+
+size_t count(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+class MpiRuns : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (std::string(kMpiexec).empty()) GTEST_SKIP() << "built without MPI (LITTORAL_MPI found no MPI library)";
+        // OpenMPI refuses to run as root (CI containers) unless told that it may.
+        setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+        setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+        // The EXRs' DateTime from the reproducible-builds clock, so that runs can match byte for byte.
+        setenv("SOURCE_DATE_EPOCH", "1796256000", 1);
+        dir_ = scratchDir("mpi_runs", ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    }
+    // Builds `scene` into dir_/ir.
+    fs::path build(const std::string& scene) {
+        const fs::path file = writeTextFile(dir_, "scene.yaml", scene);
+        const CommandResult r = runLittoral("-q build " + file.string() + " --out " + (dir_ / "ir").string());
+        if (r.status != 0) ADD_FAILURE() << r.output;
+        return dir_ / "ir";
+    }
+    fs::path dir_;
+};
+
+TEST_F(MpiRuns, PathTracedRenderOnTwoAndThreeRanksIsTheSingleProcessRender) {
+    const fs::path ir = build(pathScene());
+    CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_TRUE(fs::exists(dir_ / "one" / "nadir_stderr.img"));  // the standard-error image is compared too
+    r = runOnRanks(2, "-q render " + ir.string() + " --out " + (dir_ / "two").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    expectSameFiles(dir_ / "one", dir_ / "two");
+    // Three ranks of one thread each: another split of every item, the same bytes.
+    r = runOnRanks(3, "-q render " + ir.string() + " --out " + (dir_ / "three").string() + " --threads 1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    expectSameFiles(dir_ / "one", dir_ / "three");
+}
+
+TEST_F(MpiRuns, PhotonMapRunOnTwoAndThreeRanksIsTheSingleProcessRun) {
+    const fs::path scene = writeTextFile(dir_, "scene.yaml", photonScene(2));
+    CommandResult r = runLittoral("-q run " + scene.string() + " --out " + (dir_ / "one").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (int ranks : {2, 3}) {
+        const fs::path out = dir_ / ("ranks" + std::to_string(ranks));
+        r = runOnRanks(ranks, "run " + scene.string() + " --out " + out.string());
+        ASSERT_EQ(r.status, 0) << r.output;
+        // One report, from rank 0 (the others are silent).
+        EXPECT_EQ(count(r.output, "rendered 1 sensor(s)"), 1u) << r.output;
+        EXPECT_TRUE(r.output.find("on " + std::to_string(ranks) + " MPI ranks") != std::string::npos) << r.output;
+        expectSameFiles(dir_ / "one", out);  // the IR, the images and the probe tables
+    }
+}
+
+// A progressive run of 10 passes (about 0.3 s each) on 2 ranks, stopped (SIGTERM to mpirun) once its
+// checkpoint holds pass 2, and resumed on 3 ranks, equals the uninterrupted single-process run.
+TEST_F(MpiRuns, ACheckpointOfTwoRanksResumesOnThreeAsTheUninterruptedRun) {
+    const fs::path ir = build(photonScene(10, 200000));
+    CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const fs::path out = dir_ / "resumed", state = out / "progressive.checkpoint" / "state.json";
+    const pid_t pid = spawnOnRanks(2, {"-q", "render", ir.string(), "--out", out.string()});
+    ASSERT_GT(pid, 0);
+    ASSERT_TRUE(stopOnceWritten(pid, state, "\"passes_done\": 2")) << "the checkpoint of pass 2 did not appear within 60 s";
+    ASSERT_TRUE(fs::exists(state)) << "the run finished before it was stopped";
+    // Stopped: no image was written (the interrupted ranks removed their partial outputs).
+    EXPECT_FALSE(fs::exists(out / "nadir.exr"));
+    r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
+    ASSERT_EQ(r.status, 0) << r.output;
+    expectSameFiles(dir_ / "one", out);
+}
+
+// A one-pass path-traced render on 2 ranks saves its finished tiles (rank 0 receives them); stopped
+// once it has saved some and resumed on 3 ranks, it equals the uninterrupted single-process render.
+TEST_F(MpiRuns, ATileCheckpointOfTwoRanksResumesOnThreeAsTheUninterruptedRender) {
+    std::string scene = replacedOnce(pathScene(), "gsd_m: 0.5, width: 16, height: 12, samples_per_pixel: 4",
+                                     "gsd_m: 0.125, width: 64, height: 48, samples_per_pixel: 24");
+    scene = replacedOnce(scene, "target_relative_error: 0.3, max_samples_per_pixel: 16", "max_bounces: 64");
+    const fs::path ir = build(scene);
+    CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    setenv("LITTORAL_CHECKPOINT_SECONDS", "0", 1);  // save after every chunk of tiles
+    const fs::path out = dir_ / "resumed", state = out / "render.checkpoint" / "state.json";
+    const pid_t pid = spawnOnRanks(2, {"-q", "render", ir.string(), "--out", out.string()});
+    ASSERT_GT(pid, 0);
+    const bool held = stopOnceWritten(pid, state, "\"generation\": 2");
+    unsetenv("LITTORAL_CHECKPOINT_SECONDS");
+    ASSERT_TRUE(held) << "no tile checkpoint within 60 s";
+    ASSERT_TRUE(fs::exists(state)) << "the render finished before it was stopped";
+    EXPECT_FALSE(fs::exists(out / "nadir.exr"));
+    r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
+    ASSERT_EQ(r.status, 0) << r.output;
+    expectSameFiles(dir_ / "one", out);
+}
+
+TEST_F(MpiRuns, BadInputIsReportedOnceAndCommandsWithoutRanksAreRefused) {
+    const fs::path ir = build(pathScene());
+    CommandResult r = runOnRanks(2, "-q render " + ir.string() + " --out " + (dir_ / "bad").string() + " --sensor nadri");
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_EQ(count(r.output, "--sensor: no sensor named 'nadri'"), 1u) << r.output;  // rank 0 reports, once
+    EXPECT_EQ(count(r.output, "MPI_ABORT"), 0u) << r.output;  // the ranks agreed and ended cleanly
+    EXPECT_FALSE(fs::exists(dir_ / "bad"));
+    r = runOnRanks(2, "-q build " + (dir_ / "scene.yaml").string() + " --out " + (dir_ / "built").string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_EQ(count(r.output, "error: `littoral build` does not use MPI ranks (only run and render do): run it without "
+                              "mpirun"),
+              1u)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "built"));
+}
+
+}  // namespace
