@@ -188,6 +188,57 @@ void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBat
     }
 }
 
+// How a probe quantity's samples are cut: B batches of perBatch samples, each in chunks of at most
+// `chunk` samples, drawn from streams (seed, stream, sample index).
+struct ProbeChunks {
+    int B, chunksPerBatch, perBatch, chunk;
+    const StratifiedLayout& layout;
+    uint64_t seed, stream;
+};
+
+// The sample sums of every chunk (and, with `withEd`, the sums of Ed(0+) for Rrs). Each chunk is
+// summed by one task, so the sums do not depend on the thread count; the chunks are shared by the
+// ranks of a run, and each chunk's sums reach every rank.
+void sumProbeChunks(const ProbeSampler& sampler, const ProbeChunks& plan, BandGroup g, bool withEd,
+                    const RenderOptions& opts, Progress* progress, std::vector<Spec>* chunkSums,
+                    std::vector<Spec>* edSums) {
+    chunkSums->assign(static_cast<size_t>(plan.B) * plan.chunksPerBatch, Spec(g.count));
+    edSums->assign(withEd ? chunkSums->size() : 0, Spec(g.count));
+    tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
+    auto sumChunk = [&](size_t c) {
+        const int batch = static_cast<int>(c / plan.chunksPerBatch);
+        const int k0 = static_cast<int>(c % plan.chunksPerBatch) * plan.chunk;
+        const int k1 = std::min(plan.perBatch, k0 + plan.chunk);
+        Spec sum(g.count), ed(g.count), ed0(g.count);
+        for (int k = k0; k < k1; ++k) {
+            RandomStream rng(plan.seed, plan.stream, static_cast<uint64_t>(batch) * plan.perBatch + k);
+            const Vec2 u = plan.layout.point(k, rng.uniform(), rng.uniform());
+            sum += sampler.sample(u, rng, &ed0);
+            ed += ed0;
+        }
+        (*chunkSums)[c] = sum;
+        if (withEd) (*edSums)[c] = ed;
+        flushRayStats();
+        if (progress) progress->advance();
+    };
+    auto chunkValues = [&](uint64_t c, auto&& f) {
+        for (int b = 0; b < g.count; ++b) f((*chunkSums)[c][b]);
+        if (withEd)
+            for (int b = 0; b < g.count; ++b) f((*edSums)[c][b]);
+    };
+    distributeItems(
+        chunkSums->size(), 0, ShareWith::AllRanks,
+        [&](uint64_t c0, uint64_t c1) {
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1, 1), [&](const tbb::blocked_range<size_t>& r) {
+                    for (size_t c = r.begin(); c != r.end(); ++c) sumChunk(c);
+                });
+            });
+        },
+        [&](uint64_t c, ByteWriter& w) { chunkValues(c, [&](double& x) { w.put(x); }); },
+        [&](uint64_t c, ByteReader& r) { chunkValues(c, [&](double& x) { x = r.get<double>(); }); });
+}
+
 }  // namespace
 
 void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry) {
@@ -225,9 +276,8 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     const int B = cfg.probeBatches;
     const int N = probe.samples.value_or(cfg.probeSamples);
     const int perBatch = N / B;  // a remainder of fewer than B samples is not drawn
-    // Work is cut into chunks of at most kChunk samples inside each batch; each chunk is summed by
-    // one task and the chunk sums are added in a fixed order, so the result does not depend on
-    // the thread count.
+    // Work is cut into chunks of at most kChunk samples inside each batch (sumProbeChunks); the
+    // chunk sums are added in a fixed order, so the result does not depend on the thread count.
     constexpr int kChunk = 1024;
     const int chunksPerBatch = (perBatch + kChunk - 1) / kChunk;
     const int nb = scene.bandCount();
@@ -262,40 +312,10 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                                        Frame::fromNormal(n),
                                        up && md.scattering() && md.forwardPeaked() ? est.sun().refractedDirection(medium)
                                                                                    : std::nullopt};
-            std::vector<Spec> chunkSums(static_cast<size_t>(B) * chunksPerBatch, Spec(g.count));
-            std::vector<Spec> edSums(q == Quantity::Rrs ? chunkSums.size() : 0, Spec(g.count));
-            tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
-            // The chunks are shared by the ranks of a run; each chunk's sums reach every rank.
-            auto chunkValues = [&](uint64_t c, auto&& f) {
-                for (int b = 0; b < g.count; ++b) f(chunkSums[c][b]);
-                if (!edSums.empty())
-                    for (int b = 0; b < g.count; ++b) f(edSums[c][b]);
-            };
-            distributeItems(chunkSums.size(), 0, ShareWith::AllRanks, [&](uint64_t c0, uint64_t c1) {
-            arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1, 1), [&](const tbb::blocked_range<size_t>& r) {
-                    for (size_t c = r.begin(); c != r.end(); ++c) {
-                        const int batch = static_cast<int>(c / chunksPerBatch);
-                        const int k0 = static_cast<int>(c % chunksPerBatch) * kChunk;
-                        const int k1 = std::min(perBatch, k0 + kChunk);
-                        Spec sum(g.count), ed(g.count), ed0(g.count);
-                        for (int k = k0; k < k1; ++k) {
-                            const uint64_t index = static_cast<uint64_t>(batch) * perBatch + k;
-                            RandomStream rng(scene.ir().render.seed, streamBase + probeIndex * 16 + qi, index);
-                            const Vec2 u = layout.point(k, rng.uniform(), rng.uniform());
-                            sum += sampler.sample(u, rng, &ed0);
-                            ed += ed0;
-                        }
-                        chunkSums[c] = sum;
-                        if (!edSums.empty()) edSums[c] = ed;
-                        flushRayStats();
-                        if (progress) progress->advance();
-                    }
-                });
-            });
-            },
-            [&](uint64_t c, ByteWriter& w) { chunkValues(c, [&](double& x) { w.put(x); }); },
-            [&](uint64_t c, ByteReader& r) { chunkValues(c, [&](double& x) { x = r.get<double>(); }); });
+            const ProbeChunks plan{B, chunksPerBatch, perBatch, kChunk, layout, scene.ir().render.seed,
+                                   streamBase + probeIndex * 16 + qi};
+            std::vector<Spec> chunkSums, edSums;
+            sumProbeChunks(sampler, plan, g, q == Quantity::Rrs, opts, progress.get(), &chunkSums, &edSums);
             batchStatistics(chunkSums, B, chunksPerBatch, perBatch, g, &v, edSums.empty() ? nullptr : &edSums);
         }
         out.push_back(std::move(v));

@@ -297,6 +297,21 @@ void writeOutputs(const ir::SceneIR& ir, const Scene& scene, const std::filesyst
     }
 }
 
+// What a checkpoint of this run holds: the sensor selection, the passes, and the values of every
+// selected sensor's films and of the probes (those only when every sensor is rendered).
+CheckpointShape checkpointShape(const ir::SceneIR& ir, const Scene& scene, const std::vector<const ir::Sensor*>& sensors,
+                                const std::string& selection, int passes) {
+    CheckpointShape shape;
+    shape.sensor = selection;
+    shape.passes = passes;
+    shape.bands = static_cast<size_t>(scene.bandCount());
+    for (const ir::Sensor* s : sensors)
+        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * filmCount(*s));
+    if (selection.empty())
+        for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
+    return shape;
+}
+
 }  // namespace
 
 RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path& irDir,
@@ -318,14 +333,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     state.irHash = std::hash<std::string>{}(ir::toJsonText(ir));
     const auto ckptDir = outDir / "progressive.checkpoint";
     int first = 1;
-    CheckpointShape shape;
-    shape.sensor = opts.sensor;
-    shape.passes = passes;
-    shape.bands = static_cast<size_t>(scene.bandCount());
-    for (const ir::Sensor* s : sensors)
-        shape.imageSizes.push_back(static_cast<size_t>(s->width) * s->height * shape.bands * filmCount(*s));
-    if (probesToo)
-        for (const ir::Probe& p : ir.probes) shape.probeValues += p.quantities.size();
+    const CheckpointShape shape = checkpointShape(ir, scene, sensors, opts.sensor, passes);
     // A render in one pass saves its finished tiles instead (render/tile_checkpoint.h).
     const auto tileDir = outDir / "render.checkpoint";
     std::unique_ptr<TileCheckpoint> tiles;
