@@ -150,6 +150,9 @@ protected:
         // OpenMPI refuses to run as root (CI containers) unless told that it may.
         setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
         setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+        // Containers often forbid the cross-process reads (CMA) of OpenMPI's shared-memory transport:
+        // copy through the shared segment instead (slower, and these exchanges are small).
+        setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1);
         // The EXRs' DateTime from the reproducible-builds clock, so that runs can match byte for byte.
         setenv("SOURCE_DATE_EPOCH", "1796256000", 1);
         dir_ = scratchDir("mpi_runs", ::testing::UnitTest::GetInstance()->current_test_info()->name());
