@@ -80,7 +80,9 @@ std::vector<std::filesystem::path> writeGeoLayers(const ir::SceneIR& ir, const r
                                 fmt::format("Littoral georeferencing of scene {} sensor {} ({}): degrees; latitude and "
                                             "longitude WGS84 of the first surface each pixel's centre ray meets; "
                                             "azimuths clockwise from true north; NaN where the ray meets nothing",
-                                            ir.name, img.sensor, frame.describe()));
+                                            ir.name, img.sensor, frame.describe()),
+                                // the radiance's georeferencing lines, so that GDAL places the layers too
+                                georef ? enviGeoHeaderLines(*georef) : std::string());
         written.push_back(path);
         written.push_back(render::enviHeaderPath(path));
     }

@@ -39,10 +39,11 @@ struct ImageGeoreference {
 // nullopt when the IR has no geo reference, or the view meets the plane z = 0 at fewer than four
 // of its control points.
 std::optional<ImageGeoreference> imageGeoreference(const ir::SceneIR& ir, const ir::Sensor& sensor);
-// The ENVI header lines (`map info`, `coordinate system string`) of an affine georeference, as
-// GDAL's ENVI driver writes them; "" for control points (ENVI's map info is affine only).
+// The ENVI header lines of a georeference, as GDAL's ENVI driver writes them: `map info` and
+// `coordinate system string` of an affine one; otherwise `geo points` (pixel and line, 1-based,
+// latitude and longitude WGS84, of every control point; ENVI's map info is affine only).
 std::string enviGeoHeaderLines(const ImageGeoreference& g);
-// The ENVI header lines for a sensor of this IR ("" without a geo reference or an affine view):
+// The ENVI header lines for a sensor of this IR ("" without a geo reference):
 // for RenderJobOptions::enviHeaderLines.
 std::string enviGeoHeaderLines(const ir::SceneIR& ir, const ir::Sensor& sensor);
 // A float32 GeoTIFF of the film (one band per film band, DEFLATE), with its CRS and transform or

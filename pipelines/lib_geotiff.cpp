@@ -10,6 +10,7 @@
 // straight down project that plane affinely (a 6-term geotransform, from three corners); other
 // views get a grid of ground control points (GeoTIFF tie points) instead.
 #include <array>
+#include <memory>
 #include <cmath>
 #include <optional>
 
@@ -121,8 +122,47 @@ std::optional<ImageGeoreference> imageGeoreference(const ir::SceneIR& ir, const 
     return g;
 }
 
+// The control points in GDAL's form; `ids` holds their names while the points are used.
+std::vector<GDAL_GCP> gdalGcps(const ImageGeoreference& g, std::vector<std::string>& ids) {
+    std::vector<GDAL_GCP> gcps(g.gcps.size());
+    ids.clear();
+    for (size_t k = 0; k < g.gcps.size(); ++k) ids.push_back(std::to_string(k + 1));
+    for (size_t k = 0; k < g.gcps.size(); ++k) {
+        gcps[k].pszId = const_cast<char*>(ids[k].c_str());
+        gcps[k].pszInfo = const_cast<char*>("");
+        gcps[k].dfGCPPixel = g.gcps[k].col;
+        gcps[k].dfGCPLine = g.gcps[k].row;
+        gcps[k].dfGCPX = g.gcps[k].x;
+        gcps[k].dfGCPY = g.gcps[k].y;
+        gcps[k].dfGCPZ = 0;
+    }
+    return gcps;
+}
+
+// ENVI's `geo points` for the control points of an oblique view: pixel and line (1-based, so the
+// image's top left corner is 1, 1), latitude and longitude (ENVI's geo points are geographic): the
+// points taken from the CRS to WGS84. Written here, since GDAL's ENVI driver keeps only four.
+std::string enviGeoPoints(const ImageGeoreference& g) {
+    OGRSpatialReference crs, wgs84;
+    crs.importFromWkt(g.wkt.c_str());
+    crs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    wgs84.SetWellKnownGeogCS("WGS84");
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&crs, &wgs84));
+    if (!ct) throw InternalError("GDAL: no transformation from the scene's CRS to WGS84");
+    std::string lines = "geo points = {\n";
+    for (size_t k = 0; k < g.gcps.size(); ++k) {
+        double lon = g.gcps[k].x, lat = g.gcps[k].y;
+        if (!ct->Transform(1, &lon, &lat)) throw InternalError("GDAL: a control point did not reach WGS84");
+        // 1e-10 deg: 0.01 mm on the ground
+        lines += fmt::format(" {:.6f}, {:.6f}, {:.10f}, {:.10f}{}\n", g.gcps[k].col + 1, g.gcps[k].row + 1, lat, lon,
+                             k + 1 < g.gcps.size() ? "," : "}");
+    }
+    return lines;
+}
+
 std::string enviGeoHeaderLines(const ImageGeoreference& g) {
-    if (!g.affine) return "";
+    if (!g.affine) return enviGeoPoints(g);
     // GDAL's ENVI driver writes the header lines for this transform and CRS (map info with its
     // rotation convention, coordinate system string); they are taken from a 1-band dataset in memory.
     GDALAllRegister();
@@ -185,18 +225,8 @@ void writeGeoTiff(const std::filesystem::path& path, const render::Film& film, c
         ds->SetGeoTransform(t.data());
         ds->SetSpatialRef(&srs);
     } else {
-        std::vector<GDAL_GCP> gcps(g.gcps.size());
         std::vector<std::string> ids;
-        for (size_t k = 0; k < g.gcps.size(); ++k) ids.push_back(std::to_string(k + 1));
-        for (size_t k = 0; k < g.gcps.size(); ++k) {
-            gcps[k].pszId = const_cast<char*>(ids[k].c_str());
-            gcps[k].pszInfo = const_cast<char*>("");
-            gcps[k].dfGCPPixel = g.gcps[k].col;
-            gcps[k].dfGCPLine = g.gcps[k].row;
-            gcps[k].dfGCPX = g.gcps[k].x;
-            gcps[k].dfGCPY = g.gcps[k].y;
-            gcps[k].dfGCPZ = 0;
-        }
+        const std::vector<GDAL_GCP> gcps = gdalGcps(g, ids);
         ds->SetGCPs(static_cast<int>(gcps.size()), gcps.data(), &srs);
     }
     ds->SetMetadataItem("TIFFTAG_IMAGEDESCRIPTION", description.c_str());

@@ -5,11 +5,15 @@
 //   check_scene(path)     pipelines::checkScene (the summary `check-scene` prints)
 //   run(scene, out, ...)  pipelines::runScene, as `littoral run` (one output set, a folder lock)
 //   read_envi / read_exr  render::readEnvi / readExr: (bands, rows, cols) float32 and the bands
+//   read_raster(path)     any image OpenImageIO reads: channels, their names, the header's attributes
 // An InputError is raised as littoral.InputError with the command's message ("file:line:col: ...").
 #include <filesystem>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include <fmt/format.h>
+#include <OpenImageIO/imageio.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -50,6 +54,41 @@ py::dict filmDict(const render::Film& f) {
     d["data"] = a;
     d["band_lo_um"] = lo;
     d["band_hi_um"] = hi;
+    return d;
+}
+
+// Any image OpenImageIO reads (the truth EXR, the GeoTIFF, the PSF and detector EXRs, the PNG
+// previews): its channels as (channels, rows, cols) float32 (uint8 for 8-bit images), their names,
+// and the string and number attributes of its header.
+py::dict rasterDict(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(SourceLoc{path}, "cannot read the image: " + OIIO::geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    const bool bytes = spec.format == OIIO::TypeDesc::UINT8;
+    const size_t n = static_cast<size_t>(spec.width) * spec.height * spec.nchannels;
+    py::dict d;
+    auto planes = [&](auto* pixels, auto arr, OIIO::TypeDesc type) {
+        std::vector<std::remove_pointer_t<decltype(pixels)>> buf(n);
+        if (!in->read_image(0, 0, 0, spec.nchannels, type, buf.data()))
+            throw InputError(SourceLoc{path}, "cannot read the image: " + in->geterror());
+        auto m = arr.template mutable_unchecked<3>();
+        for (int c = 0; c < spec.nchannels; ++c)
+            for (int y = 0; y < spec.height; ++y)
+                for (int x = 0; x < spec.width; ++x)
+                    m(c, y, x) = buf[(static_cast<size_t>(y) * spec.width + x) * spec.nchannels + c];
+        d["data"] = arr;
+    };
+    if (bytes) planes(static_cast<uint8_t*>(nullptr), py::array_t<uint8_t>({spec.nchannels, spec.height, spec.width}), OIIO::TypeDesc::UINT8);
+    else planes(static_cast<float*>(nullptr), py::array_t<float>({spec.nchannels, spec.height, spec.width}), OIIO::TypeDesc::FLOAT);
+    d["channels"] = spec.channelnames;
+    py::dict attrs;
+    for (const OIIO::ParamValue& p : spec.extra_attribs) {
+        if (p.type() == OIIO::TypeDesc::STRING) attrs[p.name().c_str()] = std::string(p.get_ustring().c_str());
+        else if (p.type() == OIIO::TypeDesc::FLOAT) attrs[p.name().c_str()] = p.get_float();
+        else if (p.type() == OIIO::TypeDesc::INT) attrs[p.name().c_str()] = p.get_int();
+    }
+    d["attributes"] = attrs;
+    in->close();
     return d;
 }
 
@@ -201,4 +240,6 @@ PYBIND11_MODULE(_littoral, m) {
           "Run a grid of runs as `littoral sweep SCENE --vary KEY=V1,V2 ... --out OUT` does (vary: the KEY=V1,V2 strings)");
     m.def("read_envi", [](const std::string& path) { return filmDict(render::readEnvi(path)); }, py::arg("path"));
     m.def("read_exr", [](const std::string& path) { return filmDict(render::readExr(path)); }, py::arg("path"));
+    m.def("read_raster", &rasterDict, py::arg("path"),
+          "Any image OpenImageIO reads: {'data': (channels, rows, cols), 'channels': names, 'attributes': header}");
 }

@@ -603,7 +603,8 @@ void writeTrueColourPng(const fs::path& path, const Film& film, const PreviewOpt
 }
 
 void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::vector<std::string>& names,
-                     const std::vector<std::vector<double>>& layers, const std::string& description) {
+                     const std::vector<std::vector<double>>& layers, const std::string& description,
+                     const std::string& extraHeader) {
     const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
     LITTORAL_CHECK(width > 0 && height > 0 && names.size() == layers.size() && !names.empty());
     std::string desc = description;
@@ -614,6 +615,7 @@ void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::
     // data type 5 = 64-bit IEEE float; byte order 0 = little endian.
     hdr += "header offset = 0\nfile type = ENVI Standard\ndata type = 5\ninterleave = bsq\nbyte order = 0\n";
     hdr += "band names = {" + joinCommas(names) + "}\n";
+    hdr += extraHeader;
     std::string data;
     data.reserve(n * names.size() * sizeof(double));
     for (const std::vector<double>& layer : layers) {

@@ -152,9 +152,11 @@ Film gaussianBlur(const Film& film, double sigma);
 
 // An ENVI float64 BSQ image of named layers (each width x height, row-major): `imgPath` and its
 // header, with `band names` and `description`; float64 so that latitudes and longitudes keep
-// millimetres (float32 holds only about 0.4 m of a latitude). Written like writeEnvi.
+// millimetres (float32 holds only about 0.4 m of a latitude). `extraHeader`: further header lines
+// (the georeferencing's map info or geo points). Written like writeEnvi.
 void writeEnviLayers(const std::filesystem::path& imgPath, int width, int height, const std::vector<std::string>& names,
-                     const std::vector<std::vector<double>>& layers, const std::string& description);
+                     const std::vector<std::vector<double>>& layers, const std::string& description,
+                     const std::string& extraHeader = "");
 
 // ---- Truth images -----------------------------------------------------------------------------
 

@@ -13,19 +13,27 @@ module), so a run here writes the same files, byte for byte, as `littoral run`.
     littoral.sweep("scene.yaml", "study", vary={"sun.zenith_deg": [20, 40]})   # a grid of runs + index
     image = littoral.read_image("out/cam.img")    # data (bands, rows, cols), wavelengths, header
     probes = littoral.read_probes("out")          # probes.json as a list of dicts
+    geo = littoral.read_layers("out/cam_geo.img") # {"latitude_deg": (rows, cols) float64, ...}
+    truth = littoral.read_truth("out", "cam")     # material, surface, range, depth + the legend
+    tif = littoral.read_raster("out/cam.tif")     # any image: channels, names, header attributes
+    kd = littoral.read_kd("out")                  # kd.csv as columns
+    det = littoral.read_detector("out", "cam")    # the detector's report (cam_detector.json)
 """
+import csv
 import json
 import os
 
 import numpy as np
 
 from ._littoral import InputError, WaveSurface, check_scene, read_envi as _read_envi, read_exr as _read_exr
+from ._littoral import read_raster as _read_raster
 from ._littoral import run as _run
 from ._littoral import sweep as _sweep
 from ._littoral import waves as _waves
 
 __all__ = ["InputError", "WaveSurface", "Image", "waves", "check_scene", "run", "sweep", "read_image",
-           "read_probes", "read_products", "PRODUCTS"]
+           "read_probes", "read_products", "read_layers", "read_truth", "read_raster", "read_kd", "read_detector",
+           "PRODUCTS"]
 
 # The water-leaving products a sensor with `water_products: true` writes (docs/outputs.md).
 PRODUCTS = ("water_leaving", "sky_reflected", "glint", "other", "ed0", "rrs")
@@ -137,3 +145,70 @@ def read_probes(out):
         p["band_hi_um"] = np.asarray([b["hi_um"] for b in j["bands"]])
         probes.append(p)
     return probes
+
+
+# ENVI data types of Littoral's outputs: 4 float32 (radiance, products, errors), 5 float64 (layers).
+_ENVI_TYPES = {"4": np.float32, "5": np.float64}
+
+
+def read_layers(path):
+    """An ENVI image of named layers (NAME_geo.img: latitude, longitude, view and sun angles, float64)
+    as {band name: (rows, cols) array}; the header's fields are under the key "header"."""
+    path = os.fspath(path)
+    h = _read_envi_header(os.path.splitext(path)[0] + ".hdr")
+    if h.get("interleave", "bsq").lower() != "bsq" or h.get("data type") not in _ENVI_TYPES:
+        raise InputError(f"{path}: not a band-sequential float32 or float64 ENVI image")
+    rows, cols, bands = int(h["lines"]), int(h["samples"]), int(h["bands"])
+    dtype = np.dtype(_ENVI_TYPES[h["data type"]]).newbyteorder(">" if h.get("byte order") == "1" else "<")
+    data = np.fromfile(path, dtype=dtype, offset=int(h.get("header offset", "0")))
+    if data.size != rows * cols * bands:
+        raise InputError(f"{path}: {data.size} values, the header says {bands} x {rows} x {cols}")
+    names = [n.strip() for n in h.get("band names", "").split(",")] if "band names" in h else \
+        [f"band {k + 1}" for k in range(bands)]
+    layers = {name: data[k * rows * cols:(k + 1) * rows * cols].reshape(rows, cols).astype(dtype.newbyteorder("="))
+              for k, name in enumerate(names)}
+    layers["header"] = h
+    return layers
+
+
+def read_raster(path):
+    """Any image OpenImageIO reads (NAME.tif, NAME_truth.exr, NAME_psf.exr, NAME_noisy.exr, the PNGs):
+    {"data": (channels, rows, cols), "channels": names, "attributes": the header's attributes}."""
+    return _read_raster(os.fspath(path))
+
+
+def read_truth(out, sensor):
+    """The truth images of `sensor` (NAME_truth.exr) as {channel: (rows, cols)} (materialId and
+    surfaceId as int, range and hitDepth in metres), with "legend": the rows of NAME_legend.csv."""
+    out = os.fspath(out)
+    r = _read_raster(os.path.join(out, f"{sensor}_truth.exr"))
+    t = {}
+    for k, name in enumerate(r["channels"]):
+        plane = r["data"][k]
+        t[name] = plane.astype(np.int64) if name.endswith("Id") else plane
+    with open(os.path.join(out, f"{sensor}_legend.csv"), encoding="utf-8", newline="") as f:
+        t["legend"] = list(csv.DictReader(f))
+    return t
+
+
+def read_kd(out):
+    """kd.csv of an output folder (or the file itself) as {column: numpy array} (text columns as lists)."""
+    path = os.fspath(out)
+    if os.path.isdir(path):
+        path = os.path.join(path, "kd.csv")
+    with open(path, encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
+    columns = {}
+    for key in (rows[0].keys() if rows else []):
+        values = [row[key] for row in rows]
+        try:
+            columns[key] = np.asarray([float(v) for v in values])
+        except ValueError:
+            columns[key] = values
+    return columns
+
+
+def read_detector(out, sensor):
+    """The detector report of `sensor` (NAME_detector.json): per band signal, noise, SNR, clipping."""
+    with open(os.path.join(os.fspath(out), f"{sensor}_detector.json"), encoding="utf-8") as f:
+        return json.load(f)

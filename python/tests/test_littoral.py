@@ -145,3 +145,60 @@ def test_the_example_runs_and_plots(tmp_path):
     depths = sorted(by_depth)
     assert len(depths) == 3
     assert all(a > b for a, b in zip(by_depth[depths[0]], by_depth[depths[-1]]))
+
+
+OUTPUTS_SCENE = """scene: {name: pyall, origin: {latitude: 36.1833, longitude: -75.75}, domain: {x: [-5, 5], y: [-5, 5]}}
+sun: {zenith_deg: 30, irradiance: 1000}
+sky: {radiance: 20}
+water: {level_m: 0, optics: {preset: low}}
+bathymetry: {type: planar_slope, z0_m: -3, material: sand}
+materials: [{name: sand, reflectance: 0.3}]
+sensors:
+  - {name: cam, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 20, gsd_m: 0.5, width: 8, height: 6,
+     samples_per_pixel: 4, psf: {type: gaussian, fwhm_px: 1.5},
+     detector: {aperture_mm: 0.5, integration_ms: 1, quantum_efficiency: 0.5, read_noise_e: 20, full_well_e: 1000000,
+                bits: 16}}
+probes:
+  - {name: prof, line: {from: [0, 0, -0.5], to: [0, 0, -2.0], count: 4}, quantities: [Ed], samples: 256}
+render: {bands: [[0.45, 0.5], [0.55, 0.6]], hemisphere_samples: 4, photons: {volume: 20000}, probe_batches: 4}
+"""
+
+
+def test_every_output_reads_back_with_its_metadata(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(OUTPUTS_SCENE)
+    out = tmp_path / "out"
+    littoral.run(scene, out, progress=False)
+    img = littoral.read_image(out / "cam.img")
+    # The GeoTIFF holds the same radiance, band for band, as the ENVI image.
+    tif = littoral.read_raster(out / "cam.tif")
+    assert tif["data"].shape == img.data.shape and tif["data"].dtype == np.float32
+    np.testing.assert_array_equal(tif["data"], img.data)
+    # The PSF and detector images: the blur keeps the image's total; the noisy image is in the
+    # radiance's units, its mean within a few per cent of the clean one (shot and read noise).
+    psf = littoral.read_raster(out / "cam_psf.exr")
+    noisy = littoral.read_raster(out / "cam_noisy.exr")
+    assert psf["data"].shape == img.data.shape == noisy["data"].shape
+    np.testing.assert_allclose(psf["data"].sum(axis=(1, 2)), img.data.sum(axis=(1, 2)), rtol=1e-4)
+    det = littoral.read_detector(out, "cam")
+    assert len(det["bands"]) == 2 and det["bits"] == 16 and all(b["snr"] > 0 for b in det["bands"])
+    # The standard-error image (4 samples per pixel) is an ENVI image like the radiance.
+    se = littoral.read_image(out / "cam_stderr.img")
+    assert se.data.shape == img.data.shape and np.all(se.data >= 0)
+    # The georeferencing layers: float64, the centre of the nadir view at the origin.
+    geo = littoral.read_layers(out / "cam_geo.img")
+    assert geo["latitude_deg"].dtype == np.float64 and geo["latitude_deg"].shape == (6, 8)
+    assert set(geo) >= {"latitude_deg", "longitude_deg", "view_zenith_deg", "sun_zenith_deg"}
+    # Pixel (4, 3)'s centre lies 0.25 m east and 0.25 m south of the origin.
+    assert geo["latitude_deg"][3, 4] == pytest.approx(36.1833 - 0.25 / 111_000, abs=2e-7)
+    assert geo["longitude_deg"][3, 4] == pytest.approx(-75.75 + 0.25 / (111_320 * np.cos(np.radians(36.1833))), abs=2e-7)
+    np.testing.assert_allclose(geo["sun_zenith_deg"], 30.0)
+    # Truth: every pixel sees the sand through the water, 3 m down, as the legend names it.
+    truth = littoral.read_truth(out, "cam")
+    assert truth["materialId"].shape == (6, 8)
+    names = {int(row["id"]): row["material"] for row in truth["legend"]}
+    assert {names[int(v)] for v in np.unique(truth["surfaceId"])} == {"sand"}
+    np.testing.assert_allclose(truth["hitDepth"], 3.0, atol=1e-3)
+    # K_d between the profile's consecutive probes: 3 pairs x 2 bands, positive.
+    kd = littoral.read_kd(out)
+    assert len(kd["kd_per_m"]) == 6 and np.all(kd["kd_per_m"] > 0)

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include <gdal_priv.h>
 #include <gtest/gtest.h>
 
 #include "core/atomic_file.h"
@@ -67,6 +68,30 @@ TEST(GeoLayers, NadirPixelsLieWhereTheEllipsoidPutsThem) {
     EXPECT_NEAR(at(3, 4, 2), 270.0 + dLon * s, 1e-7);
     EXPECT_NEAR(at(4, 0, 0), 30.0, 1e-9);
     EXPECT_NEAR(at(5, 0, 0), 315.0, 1e-4);  // true north at 3 m from the tangent point: 1e-6 deg off
+
+    // GDAL reads the layers as written (six float64 bands, in order, the same values) and places
+    // them where it places the radiance: the layers' header carries the radiance's map info.
+    GDALAllRegister();
+    GDALDataset* geo = static_cast<GDALDataset*>(GDALOpen((dir / "out" / "cam_geo.img").c_str(), GA_ReadOnly));
+    GDALDataset* rad = static_cast<GDALDataset*>(GDALOpen((dir / "out" / "cam.img").c_str(), GA_ReadOnly));
+    ASSERT_TRUE(geo && rad);
+    ASSERT_EQ(geo->GetRasterCount(), 6);
+    EXPECT_EQ(geo->GetRasterBand(1)->GetRasterDataType(), GDT_Float64);
+    for (int b = 0; b < 6; ++b) {
+        std::vector<double> band(25);
+        ASSERT_EQ(geo->GetRasterBand(b + 1)->RasterIO(GF_Read, 0, 0, 5, 5, band.data(), 5, 5, GDT_Float64, 0, 0), CE_None);
+        for (int k = 0; k < 25; ++k)
+            if (!std::isnan(band[k])) {
+                EXPECT_EQ(band[k], v[static_cast<size_t>(b) * 25 + k]) << "band " << b << " pixel " << k;
+            }
+    }
+    double tg[6], tr[6];
+    ASSERT_EQ(geo->GetGeoTransform(tg), CE_None);
+    ASSERT_EQ(rad->GetGeoTransform(tr), CE_None);
+    for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(tg[k], tr[k]) << "geotransform term " << k;
+    EXPECT_TRUE(geo->GetSpatialRef() && rad->GetSpatialRef() && geo->GetSpatialRef()->IsSame(rad->GetSpatialRef()));
+    GDALClose(geo);
+    GDALClose(rad);
 
     // Without scene.origin there is nothing to georeference.
     const fs::path dir2 = scratchDir("geo_layers", "no_origin");

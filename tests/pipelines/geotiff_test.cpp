@@ -207,19 +207,41 @@ TEST(GeoTiff, ObliqueViewsCarryGroundControlPoints) {
     const ir::SceneIR ir = ir::readIR(dir / "out" / "ir");
     const render::Camera cam(ir.sensors[0]);
     const GeographicLib::LocalCartesian lc(kLat0, kLon0, 0.0);
+    // Where the ray through pixel corner (col, row) meets z = 0, by GeographicLib.
+    auto onTheGround = [&](double col, double row) {
+        const Ray ray = cam.generateRay(col, row);
+        const double t = -ray.o.z / ray.d.z;
+        LatLon p{};
+        double h;
+        lc.Reverse(ray.o.x + t * ray.d.x, ray.o.y + t * ray.d.y, 0.0, p.lat, p.lon, h);
+        return p;
+    };
     double worst = 0;
     for (int k = 0; k < n; ++k) {
         const GDAL_GCP& g = tif.dataset()->GetGCPs()[k];
-        const Ray ray = cam.generateRay(g.dfGCPPixel, g.dfGCPLine);
-        const double t = -ray.o.z / ray.d.z;
-        double lat, lon, h;
-        lc.Reverse(ray.o.x + t * ray.d.x, ray.o.y + t * ray.d.y, 0.0, lat, lon, h);
-        const double d = metresApart({lat, lon}, tif.crsToWgs84(g.dfGCPX, g.dfGCPY));
+        const double d = metresApart(onTheGround(g.dfGCPPixel, g.dfGCPLine), tif.crsToWgs84(g.dfGCPX, g.dfGCPY));
         worst = std::max(worst, d);
         EXPECT_LT(d, 0.01 * 0.1) << "control point " << k;
     }
     std::printf("[ oblique GCPs ] %d points, worst %.2e m\n", n, worst);
+    // The ENVI header has no map info (ENVI's is affine only) but the same points as geo points
+    // (latitude and longitude), which GDAL reads back as WGS84 control points.
     EXPECT_EQ(littoral::readTextFile(dir / "out" / "cam.hdr").find("map info"), std::string::npos);
+    for (const char* file : {"cam.img"}) {
+        GDALDataset* img = static_cast<GDALDataset*>(GDALOpen((dir / "out" / file).c_str(), GA_ReadOnly));
+        ASSERT_TRUE(img) << file;
+        ASSERT_EQ(img->GetGCPCount(), n) << file;
+        double worstEnvi = 0;
+        for (int k = 0; k < n; ++k) {
+            // GDAL gives ENVI's geo points as x = longitude, y = latitude, in 0-based pixel corners.
+            const GDAL_GCP& g = img->GetGCPs()[k];
+            const double d = metresApart(onTheGround(g.dfGCPPixel, g.dfGCPLine), {g.dfGCPY, g.dfGCPX});
+            worstEnvi = std::max(worstEnvi, d);
+            EXPECT_LT(d, 0.01 * 0.1) << file << " control point " << k;
+        }
+        std::printf("[ oblique ENVI geo points ] %s: %d points, worst %.2e m\n", file, n, worstEnvi);
+        GDALClose(img);
+    }
 }
 
 // Without scene.origin there is no GeoTIFF, and one left by an earlier run into the folder is
