@@ -244,6 +244,32 @@ TEST(GeoTiff, ObliqueViewsCarryGroundControlPoints) {
     }
 }
 
+// The water-leaving products and the standard-error image carry the radiance's georeferencing: GDAL
+// reads the same geotransform and CRS from each of their headers as from NAME.img's (whose corners
+// the tests above check against GeographicLib).
+TEST(GeoTiff, ProductsAndErrorsAreGeoreferencedLikeTheRadiance) {
+    const fs::path dir = scratchDir("geotiff", "products");
+    std::string text = scene(fmt::format("origin: {{latitude: {}, longitude: {}}}, ", kLat0, kLon0),
+                             nadirSensor().substr(0, nadirSensor().size() - 1) + ", water_products: true, samples_per_pixel: 2}");
+    text = replacedOnce(text, "bathymetry: {type: planar_slope, z0_m: 0", "water: {level_m: 0}\nbathymetry: {type: planar_slope, z0_m: -2");
+    const fs::path file = writeTextFile(dir, "scene.yaml", text);
+    const auto r = runLittoral("-q run " + file.string() + " --out " + (dir / "out").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const GdalReading radiance(dir / "out" / "cam.img");
+    ASSERT_TRUE(radiance.ok() && radiance.hasTransform());
+    double want[6];
+    ASSERT_EQ(radiance.dataset()->GetGeoTransform(want), CE_None);
+    for (const char* name : {"water_leaving", "sky_reflected", "glint", "other", "ed0", "rrs", "stderr"}) {
+        const fs::path img = dir / "out" / fmt::format("cam_{}.img", name);
+        const GdalReading g(img);
+        ASSERT_TRUE(g.ok() && g.hasTransform()) << img;
+        double got[6];
+        ASSERT_EQ(g.dataset()->GetGeoTransform(got), CE_None);
+        for (int k = 0; k < 6; ++k) EXPECT_EQ(got[k], want[k]) << img << " term " << k;
+        EXPECT_TRUE(g.dataset()->GetSpatialRef()->IsSame(radiance.dataset()->GetSpatialRef())) << img;
+    }
+}
+
 // Without scene.origin there is no GeoTIFF, and one left by an earlier run into the folder is
 // removed (it would describe another scene).
 TEST(GeoTiff, NoOriginNoGeoTiff) {
