@@ -98,17 +98,7 @@ std::string mpirunPrefix(int ranks) { return fmt::format("{} -np {} --oversubscr
 pid_t spawnOnRanks(int ranks, const std::vector<std::string>& args) {
     std::vector<std::string> argv{kMpiexec, "-np", std::to_string(ranks), "--oversubscribe", littoralBinary().string()};
     argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    return rc == 0 ? pid : -1;
+    return spawnProcess(std::move(argv));
 }
 
 CommandResult runOnRanks(int ranks, const std::string& args) {

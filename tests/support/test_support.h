@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -76,11 +77,9 @@ inline CommandResult runLittoral(const std::string& args) {
     return r;
 }
 
-// Runs `littoral ARGS` as a child process (no shell, output discarded) so that the test can signal
-// it; -1 if it cannot be started.
-inline pid_t spawnLittoral(const std::vector<std::string>& args) {
-    std::vector<std::string> argv{littoralBinary().string()};
-    argv.insert(argv.end(), args.begin(), args.end());
+// Runs ARGV (argv[0] a path) as a child process (no shell, output discarded) so that the test can
+// signal it; -1 if it cannot be started.
+inline pid_t spawnProcess(std::vector<std::string> argv) {
     std::vector<char*> cargv;
     for (auto& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);
@@ -92,6 +91,13 @@ inline pid_t spawnLittoral(const std::vector<std::string>& args) {
     const int rc = posix_spawn(&pid, cargv[0], &fa, nullptr, cargv.data(), environ);
     posix_spawn_file_actions_destroy(&fa);
     return rc == 0 ? pid : -1;
+}
+
+// Runs `littoral ARGS` as a child process (spawnProcess).
+inline pid_t spawnLittoral(const std::vector<std::string>& args) {
+    std::vector<std::string> argv{littoralBinary().string()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return spawnProcess(std::move(argv));
 }
 
 // The fenced code blocks of language `lang` ("yaml" for ```yaml) of a Markdown file, in order.
