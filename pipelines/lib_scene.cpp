@@ -173,18 +173,36 @@ namespace {
 std::string runSceneOnRanks(const RunOptions& o, const fs::path& out, const fs::path& irDir) {
     const auto t0 = std::chrono::steady_clock::now();
     std::string s;
+    // Rank 0 tells the others how its build ended: "" or its error, which every rank then raises,
+    // so that bad input ends all of them alike (one message, from rank 0; pipelines/lib_mpi.h).
+    auto share = [](const std::string& failure) {
+        ByteWriter w;
+        w.putArray(failure.data(), failure.size());
+        const std::vector<Bytes> all = ranks().allGather(w.bytes());
+        ByteReader r(all[0]);
+        std::string fromRoot;
+        r.getArray(fromRoot);
+        return fromRoot;
+    };
     if (isRootRank()) {
-        const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
-        checkRenderSettings(spec);
-        if (spec.sensors.empty() && spec.probes.empty())
-            throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to render "
-                                                 "(build makes its geometry alone)");
-        (void)scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
-        publishStagedOutputs();
+        try {
+            const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
+            checkRenderSettings(spec);
+            if (spec.sensors.empty() && spec.probes.empty())
+                throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to "
+                                                     "render (build makes its geometry alone)");
+            (void)scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
+            publishStagedOutputs();
+        } catch (const InputError& e) {
+            (void)share(e.where().str().empty() ? e.message() : e.where().str() + ": " + e.message());
+            throw;
+        }
+        (void)share("");
         s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    } else if (const std::string failure = share(""); !failure.empty()) {
+        throw InputError(failure);  // rank 0 has printed it
     }
-    ranks().barrier();  // a failed build ends the job (pipelines/lib_mpi.h): the others wait here
     const auto t1 = std::chrono::steady_clock::now();
     const ir::SceneIR ir = ir::readIR(irDir);
     render::RenderJobOptions jo;

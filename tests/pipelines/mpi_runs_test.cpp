@@ -234,6 +234,13 @@ TEST_F(MpiRuns, BadInputIsReportedOnceAndCommandsWithoutRanksAreRefused) {
     EXPECT_EQ(count(r.output, "--sensor: no sensor named 'nadri'"), 1u) << r.output;  // rank 0 reports, once
     EXPECT_EQ(count(r.output, "MPI_ABORT"), 0u) << r.output;  // the ranks agreed and ended cleanly
     EXPECT_FALSE(fs::exists(dir_ / "bad"));
+    // A scene that rank 0 refuses while building it for `run`: the others learn of it and end alike.
+    const fs::path bad = writeTextFile(dir_, "bad.yaml", replacedOnce(pathScene(), "zenith_deg: 30", "zenith_deg: 95"));
+    r = runOnRanks(3, "-q run " + bad.string() + " --out " + (dir_ / "badrun").string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_EQ(count(r.output, "bad.yaml:2:19: error: sun.zenith_deg: 95 is out of range"), 1u) << r.output;
+    EXPECT_EQ(count(r.output, "MPI_ABORT"), 0u) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "badrun"));
     r = runOnRanks(2, "-q build " + (dir_ / "scene.yaml").string() + " --out " + (dir_ / "built").string());
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_EQ(count(r.output, "error: `littoral build` does not use MPI ranks (only run and render do): run it without "
