@@ -1124,9 +1124,9 @@ TEST_F(Hostile, StudyStatisticsAreDefinedOrLeftBlankWithAReason) {
     }
     EXPECT_EQ(rows, 2);
     // Whatever is left blank is explained on stderr.
-    if (blanks > 0 || contains(r.output, "undefined")) EXPECT_TRUE(contains(r.output, "are undefined") ||
-                                                                   contains(r.output, "is undefined"))
-        << r.output;
+    if (blanks > 0 || contains(r.output, "undefined")) {
+        EXPECT_TRUE(contains(r.output, "are undefined") || contains(r.output, "is undefined")) << r.output;
+    }
 }
 
 TEST_F(Hostile, InterruptedStudyLeavesNothing) {

@@ -78,7 +78,9 @@ TEST(WaterProductsCli, DeepWaterRrsAtNadirMatchesTheColumnSolver) {
     for (const auto& p : j["probes"]) {
         if (p["quantity"] == "Rrs") probeRrs = p["value"][0].get<double>(), probeSe = p["stderr"][0].get<double>();
         if (p["quantity"] == "Lw") probeLw = p["value"][0].get<double>();
-        if (p["quantity"] == "Rrs") EXPECT_EQ(p["units"], "sr^-1");
+        if (p["quantity"] == "Rrs") {
+            EXPECT_EQ(p["units"], "sr^-1");
+        }
     }
     std::printf("[ Rrs probe ] %.7f +- %.2f %% (Lw %.5f), column %.7f: %+.2f %%\n", probeRrs, 100 * probeSe / probeRrs, probeLw,
                 c8, 100 * (probeRrs / c8 - 1));
