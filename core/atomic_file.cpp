@@ -21,8 +21,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "core/ranks.h"
 #include "core/log.h"
+#include "core/ranks.h"
 #include "core/resource_limits.h"
 
 namespace littoral {

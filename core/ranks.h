@@ -39,8 +39,6 @@ public:
     virtual std::vector<Bytes> allGather(const Bytes& mine) const { return {mine}; }
     // Every rank's bytes, in rank order, on rank 0; the other ranks get an empty list.
     virtual std::vector<Bytes> gatherToRoot(const Bytes& mine) const { return {mine}; }
-    // Returns when every rank has called it.
-    virtual void barrier() const {}
     // A queue shared by the ranks (created and destroyed by all of them together).
     virtual std::unique_ptr<WorkQueue> workQueue() const;
 };

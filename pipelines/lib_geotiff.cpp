@@ -10,8 +10,8 @@
 // straight down project that plane affinely (a 6-term geotransform, from three corners); other
 // views get a grid of ground control points (GeoTIFF tie points) instead.
 #include <array>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include <cpl_conv.h>

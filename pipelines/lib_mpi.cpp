@@ -18,26 +18,7 @@
 
 namespace littoral::pipelines {
 
-namespace {
-
-// The size a launcher put in the environment: OpenMPI's mpirun, MPICH's hydra and Slurm's srun
-// (PMI); 1 when none did.
-int environmentRanks() {
-    for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
-        if (const char* v = std::getenv(var)) {
-            const int n = std::atoi(v);
-            if (n > 0) return n;
-        }
-    return 1;
-}
-
-}  // namespace
-
-int launchedRanks() { return environmentRanks(); }
-
 #ifdef LITTORAL_WITH_MPI
-
-bool mpiBuilt() { return true; }
 
 namespace {
 
@@ -83,7 +64,6 @@ public:
     }
     int rank() const override { return rank_; }
     int size() const override { return size_; }
-    void barrier() const override { MPI_Barrier(comm_); }
     std::unique_ptr<WorkQueue> workQueue() const override { return std::make_unique<MpiQueue>(comm_); }
 
     std::vector<Bytes> allGather(const Bytes& mine) const override {
@@ -198,7 +178,20 @@ int MpiSession::finish(int rc, const std::string& message) {
 
 #else  // without MPI
 
-bool mpiBuilt() { return false; }
+namespace {
+
+// The size a launcher put in the environment: OpenMPI's mpirun, MPICH's hydra and Slurm's srun
+// (PMI); 1 when none did.
+int environmentRanks() {
+    for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+        if (const char* v = std::getenv(var)) {
+            const int n = std::atoi(v);
+            if (n > 0) return n;
+        }
+    return 1;
+}
+
+}  // namespace
 
 struct MpiSession::State {};
 

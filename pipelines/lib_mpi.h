@@ -22,7 +22,6 @@ public:
     ~MpiSession();
     MpiSession(const MpiSession&) = delete;
     MpiSession& operator=(const MpiSession&) = delete;
-    bool active() const { return active_; }
     int rank() const;
     int size() const;
     // The command ended with exit code rc (0: success) and, on failure, `message` (already printed
@@ -34,10 +33,5 @@ private:
     struct State;
     std::unique_ptr<State> state_;
 };
-
-// Whether MPI support was built in.
-bool mpiBuilt();
-// The ranks the environment says the launcher started (1 when not launched by mpirun or srun).
-int launchedRanks();
 
 }  // namespace littoral::pipelines

@@ -168,11 +168,57 @@ std::string resourceSummary() {
 
 namespace {
 
+// The build half of `run`: the scene file read and checked, its IR built (the renderer's own checks
+// run on the scene in memory before the IR is written) and published, since the IR is a complete
+// output set of its own and the renderer reads its textures from disk (a failed render then leaves
+// the IR, never part of it).
+struct BuiltForRun {
+    scenegen::SceneSpec spec;
+    scenegen::AssembledScene built;
+};
+BuiltForRun buildForRun(const RunOptions& o, const fs::path& irDir) {
+    BuiltForRun b{scenegen::loadSceneFile(o.scene), {}};
+    checkRenderSettings(b.spec);  // before anything is written
+    // A scene may be built for its geometry alone (check-scene and build warn); run has nothing to
+    // render, and says so before writing the IR.
+    if (b.spec.sensors.empty() && b.spec.probes.empty())
+        throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to render "
+                                             "(build makes its geometry alone)");
+    b.built = scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
+    publishStagedOutputs();
+    return b;
+}
+
+render::RenderJobOptions runJobOptions(const RunOptions& o) {
+    render::RenderJobOptions jo;
+    jo.sensor = o.sensor;
+    jo.threads = o.threads;
+    jo.progress = o.progress;
+    jo.preview = o.preview;
+    jo.resume = o.resume;
+    jo.enviHeaderLines = [](const ir::SceneIR& ir, const ir::Sensor& s) { return enviGeoHeaderLines(ir, s); };
+    return jo;
+}
+
+// What `run` prints: the build, the render (`where`: how it ran, e.g. " on 3 MPI ranks") and the
+// files written.
+std::string runSummary(const RunOptions& o, const fs::path& irDir, const fs::path& out, const render::RenderJobResult& res,
+                       double buildSeconds, double renderSeconds, const std::string& where) {
+    std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(), buildSeconds);
+    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s{}{})\n", res.images.size(), res.probes.size(),
+                     out.string(), renderSeconds, where, resourceSummary());
+    for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
+    return s;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 // `run` under MPI ranks: rank 0 builds the scene and publishes its IR; then every rank renders the IR
-// it reads back, as `render` would.
+// it reads back, as `render` would. Only rank 0 returns a summary.
 std::string runSceneOnRanks(const RunOptions& o, const fs::path& out, const fs::path& irDir) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::string s;
     // Rank 0 tells the others how its build ended: "" or its error, which every rank then raises,
     // so that bad input ends all of them alike (one message, from rank 0; pipelines/lib_mpi.h).
     auto share = [](const std::string& failure) {
@@ -186,83 +232,46 @@ std::string runSceneOnRanks(const RunOptions& o, const fs::path& out, const fs::
     };
     if (isRootRank()) {
         try {
-            const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
-            checkRenderSettings(spec);
-            if (spec.sensors.empty() && spec.probes.empty())
-                throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to "
-                                                     "render (build makes its geometry alone)");
-            (void)scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
-            publishStagedOutputs();
+            (void)buildForRun(o, irDir);
         } catch (const InputError& e) {
             (void)share(e.where().str().empty() ? e.message() : e.where().str() + ": " + e.message());
             throw;
         }
         (void)share("");
-        s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     } else if (const std::string failure = share(""); !failure.empty()) {
         throw InputError(failure);  // rank 0 has printed it
     }
+    const double buildSeconds = secondsSince(t0);
     const auto t1 = std::chrono::steady_clock::now();
     const ir::SceneIR ir = ir::readIR(irDir);
-    render::RenderJobOptions jo;
-    jo.sensor = o.sensor, jo.threads = o.threads, jo.progress = o.progress, jo.preview = o.preview, jo.resume = o.resume;
-    jo.enviHeaderLines = [](const ir::SceneIR& i, const ir::Sensor& sn) { return enviGeoHeaderLines(i, sn); };
     render::RenderJobResult res;
     try {
-        res = render::runRenderJob(ir, irDir, out, jo);
+        res = render::runRenderJob(ir, irDir, out, runJobOptions(o));
     } catch (const InputError& e) {
         render::rethrowAtIrEntry(e, ir, irDir / "scene.json");
     }
-    if (!isRootRank()) return s;
+    if (!isRootRank()) return "";
     for (const auto& p : writeGeoLayers(ir, res, out)) res.written.push_back(p);
-    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s on {} MPI ranks{})\n", res.images.size(),
-                     res.probes.size(), out.string(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count(),
-                     ranks().size(), resourceSummary());
-    for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
-    return s;
+    return runSummary(o, irDir, out, res, buildSeconds, secondsSince(t1), fmt::format(" on {} MPI ranks", ranks().size()));
 }
 
 }  // namespace
 
 std::string runScene(const RunOptions& o) {
-    const auto t0 = std::chrono::steady_clock::now();
     const fs::path out(o.out), irDir = out / "ir";
     if (ranks().size() > 1) return runSceneOnRanks(o, out, irDir);
-    const scenegen::SceneSpec spec = scenegen::loadSceneFile(o.scene);
-    checkRenderSettings(spec);  // before anything is written
-    // A scene may be built for its geometry alone (check-scene and build warn); run has nothing to
-    // render, and says so before writing the IR.
-    if (spec.sensors.empty() && spec.probes.empty())
-        throw InputError(SourceLoc{o.scene}, "sensors, probes: the scene has neither, so run has nothing to render "
-                                             "(build makes its geometry alone)");
-    // The renderer's own checks run on the scene in memory before the IR is written.
-    const auto built = scenegen::buildScene(o.scene, irDir, checkedAssembly(o.scene));
-    // The IR is a complete output set of its own, and the renderer reads its textures from
-    // disk: publish it before rendering (a failed render then leaves the IR, never part of it).
-    publishStagedOutputs();
+    const auto t0 = std::chrono::steady_clock::now();
+    const BuiltForRun b = buildForRun(o, irDir);
+    const double buildSeconds = secondsSince(t0);
     const auto t1 = std::chrono::steady_clock::now();
-    render::RenderJobOptions jo;
-    jo.sensor = o.sensor;
-    jo.threads = o.threads;
-    jo.progress = o.progress;
-    jo.preview = o.preview;
-    jo.resume = o.resume;
-    jo.enviHeaderLines = [](const ir::SceneIR& ir, const ir::Sensor& s) { return enviGeoHeaderLines(ir, s); };
     render::RenderJobResult res;
     try {
-        res = render::runRenderJob(built.ir, irDir, out, jo);
-        for (const auto& p : writeGeoLayers(built.ir, res, out)) res.written.push_back(p);
+        res = render::runRenderJob(b.built.ir, irDir, out, runJobOptions(o));
+        for (const auto& p : writeGeoLayers(b.built.ir, res, out)) res.written.push_back(p);
     } catch (const InputError& e) {
-        rethrowAtScene(e, spec, o.scene, false);
+        rethrowAtScene(e, b.spec, o.scene, false);
     }
-    const auto t2 = std::chrono::steady_clock::now();
-    std::string s = fmt::format("built {} -> {} ({:.1f} s)\n", o.scene, irDir.string(),
-                                std::chrono::duration<double>(t1 - t0).count());
-    s += fmt::format("rendered {} sensor(s), {} probe value(s) -> {} ({:.1f} s{})\n", res.images.size(), res.probes.size(),
-                     out.string(), std::chrono::duration<double>(t2 - t1).count(), resourceSummary());
-    for (const auto& p : res.written) s += fmt::format("  {}\n", p.string());
-    return s;
+    return runSummary(o, irDir, out, res, buildSeconds, secondsSince(t1), "");
 }
 
 std::string runDemo(const DemoOptions& o) {

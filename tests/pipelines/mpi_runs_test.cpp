@@ -102,15 +102,7 @@ pid_t spawnOnRanks(int ranks, const std::vector<std::string>& args) {
 }
 
 CommandResult runOnRanks(int ranks, const std::string& args) {
-    CommandResult r;
-    const std::string cmd = mpirunPrefix(ranks) + littoralBinary().string() + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
+    return runShellCommand(mpirunPrefix(ranks) + littoralBinary().string() + " " + args);
 }
 
 // Waits (at most 60 s) until `file` exists and holds `text`, then stops mpirun (SIGTERM, which it
@@ -154,6 +146,24 @@ protected:
         if (r.status != 0) ADD_FAILURE() << r.output;
         return dir_ / "ir";
     }
+    // Renders the IR as one process; then on 2 ranks, stopped (SIGTERM to mpirun, which forwards it
+    // to the ranks) once the checkpoint file `state` (in the output folder) holds `text`, and resumed
+    // on 3 ranks: the resumed render must equal the uninterrupted one, every file.
+    void expectResumedOnThreeRanksIsTheUninterruptedRender(const fs::path& ir, const fs::path& state,
+                                                           const std::string& text) {
+        CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
+        ASSERT_EQ(r.status, 0) << r.output;
+        const fs::path out = dir_ / "resumed";
+        const pid_t pid = spawnOnRanks(2, {"-q", "render", ir.string(), "--out", out.string()});
+        ASSERT_GT(pid, 0);
+        ASSERT_TRUE(stopOnceWritten(pid, out / state, text)) << "no checkpoint holding " << text << " within 60 s";
+        ASSERT_TRUE(fs::exists(out / state)) << "the render finished before it was stopped";
+        // Stopped: no image was written (the interrupted ranks removed their partial outputs).
+        EXPECT_FALSE(fs::exists(out / "nadir.exr"));
+        r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
+        ASSERT_EQ(r.status, 0) << r.output;
+        expectSameFiles(dir_ / "one", out);
+    }
     fs::path dir_;
 };
 
@@ -189,19 +199,8 @@ TEST_F(MpiRuns, PhotonMapRunOnTwoAndThreeRanksIsTheSingleProcessRun) {
 // A progressive run of 10 passes (about 0.3 s each) on 2 ranks, stopped (SIGTERM to mpirun) once its
 // checkpoint holds pass 2, and resumed on 3 ranks, equals the uninterrupted single-process run.
 TEST_F(MpiRuns, ACheckpointOfTwoRanksResumesOnThreeAsTheUninterruptedRun) {
-    const fs::path ir = build(photonScene(10, 200000));
-    CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
-    ASSERT_EQ(r.status, 0) << r.output;
-    const fs::path out = dir_ / "resumed", state = out / "progressive.checkpoint" / "state.json";
-    const pid_t pid = spawnOnRanks(2, {"-q", "render", ir.string(), "--out", out.string()});
-    ASSERT_GT(pid, 0);
-    ASSERT_TRUE(stopOnceWritten(pid, state, "\"passes_done\": 2")) << "the checkpoint of pass 2 did not appear within 60 s";
-    ASSERT_TRUE(fs::exists(state)) << "the run finished before it was stopped";
-    // Stopped: no image was written (the interrupted ranks removed their partial outputs).
-    EXPECT_FALSE(fs::exists(out / "nadir.exr"));
-    r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
-    ASSERT_EQ(r.status, 0) << r.output;
-    expectSameFiles(dir_ / "one", out);
+    expectResumedOnThreeRanksIsTheUninterruptedRender(build(photonScene(10, 200000)),
+                                                      fs::path("progressive.checkpoint") / "state.json", "\"passes_done\": 2");
 }
 
 // A one-pass path-traced render on 2 ranks saves its finished tiles (rank 0 receives them); stopped
@@ -211,20 +210,10 @@ TEST_F(MpiRuns, ATileCheckpointOfTwoRanksResumesOnThreeAsTheUninterruptedRender)
                                      "gsd_m: 0.125, width: 64, height: 48, samples_per_pixel: 24");
     scene = replacedOnce(scene, "target_relative_error: 0.3, max_samples_per_pixel: 16", "max_bounces: 64");
     const fs::path ir = build(scene);
-    CommandResult r = runLittoral("-q render " + ir.string() + " --out " + (dir_ / "one").string());
-    ASSERT_EQ(r.status, 0) << r.output;
     setenv("LITTORAL_CHECKPOINT_SECONDS", "0", 1);  // save after every chunk of tiles
-    const fs::path out = dir_ / "resumed", state = out / "render.checkpoint" / "state.json";
-    const pid_t pid = spawnOnRanks(2, {"-q", "render", ir.string(), "--out", out.string()});
-    ASSERT_GT(pid, 0);
-    const bool held = stopOnceWritten(pid, state, "\"generation\": 2");
+    expectResumedOnThreeRanksIsTheUninterruptedRender(ir, fs::path("render.checkpoint") / "state.json",
+                                                      "\"generation\": 2");
     unsetenv("LITTORAL_CHECKPOINT_SECONDS");
-    ASSERT_TRUE(held) << "no tile checkpoint within 60 s";
-    ASSERT_TRUE(fs::exists(state)) << "the render finished before it was stopped";
-    EXPECT_FALSE(fs::exists(out / "nadir.exr"));
-    r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
-    ASSERT_EQ(r.status, 0) << r.output;
-    expectSameFiles(dir_ / "one", out);
 }
 
 TEST_F(MpiRuns, BadInputIsReportedOnceAndCommandsWithoutRanksAreRefused) {

@@ -64,10 +64,10 @@ struct CommandResult {
     std::string output;  // stdout and stderr together
 };
 
-// Runs `littoral ARGS` and captures its exit status and output.
-inline CommandResult runLittoral(const std::string& args) {
+// Runs a shell command line and captures its exit status and output (stderr too).
+inline CommandResult runShellCommand(const std::string& commandLine) {
     CommandResult r;
-    const std::string cmd = littoralBinary().string() + " " + args + " 2>&1";
+    const std::string cmd = commandLine + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;
     char buf[4096];
@@ -76,6 +76,9 @@ inline CommandResult runLittoral(const std::string& args) {
     r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     return r;
 }
+
+// Runs `littoral ARGS` and captures its exit status and output.
+inline CommandResult runLittoral(const std::string& args) { return runShellCommand(littoralBinary().string() + " " + args); }
 
 // Runs ARGV (argv[0] a path) as a child process (no shell, output discarded) so that the test can
 // signal it; -1 if it cannot be started.
