@@ -12,6 +12,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <cpl_error.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
     // Before any thread exists: SIGINT / SIGTERM are handled by one thread that removes this
     // run's partial outputs and exits 130 / 143.
     installInterruptCleanup();
+    // GDAL's messages are not printed: its registration takes over libtiff's error handler, so
+    // every later TIFF that OpenImageIO encodes (the IR's class textures) would print libtiff's
+    // notes about tags as "ERROR 1: ...". Littoral's GDAL calls check what GDAL returns and
+    // report failures themselves (the raster reader collects GDAL's reason with its own handler).
+    CPLSetErrorHandler(CPLQuietErrorHandler);
     // The estimators' descriptors, which the scene-file parser reads (render/estimator_settings.h).
     render::registerEstimatorKinds();
     // Under mpirun, MPI and the ranks (pipelines/lib_mpi.h); ranks other than 0 stay silent.

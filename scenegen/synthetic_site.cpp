@@ -217,29 +217,40 @@ std::string siteSceneAndWater(uint64_t seed, const SiteOptions& opt) {
     y += "# a cement pier, a small boat, a buoy and four step targets 0.75 m apart in depth.\n";
     y += "scene:\n  name: synthetic-coastal-site\n  origin: {latitude: 36.1833, longitude: -75.7500, altitude: 0}\n";
     y += fmt::format("  domain: {{x: [{}, {}], y: [{}, {}]}}\n", kX0, kX1, kY0, kY1);
-    y += "sun: {zenith_deg: 30, azimuth_deg: 315}\n";
+    const SiteScene& sc = opt.scene;
+    y += fmt::format("sun: {{zenith_deg: {}, azimuth_deg: {}}}\n", sc.sunZenithDeg, sc.sunAzimuthDeg);
     y += "sky: {model: simple, hemisphere_irradiance: 1000, sky_fraction: 0.1}\n";
-    y += "sensors:\n  - {name: sim-c-nadir, type: frame, elevation_deg: 90, azimuth_deg: 270, range_m: 500, gsd_m: 0.2,\n"
-         "     target: [0, 0, 0], width: 450, height: 300}\n";
-    y += "probes:\n  - {name: ed-1m, position: [20, 0, -1], quantities: [Ed, Eu]}\n";
+    if (sc.sensors.empty())
+        y += "sensors:\n  - {name: sim-c-nadir, type: frame, elevation_deg: 90, azimuth_deg: 270, range_m: 500, gsd_m: 0.2,\n"
+             "     target: [0, 0, 0], width: 450, height: 300}\n";
+    else
+        y += sc.sensors;
+    if (sc.probe) y += "probes:\n  - {name: ed-1m, position: [20, 0, -1], quantities: [Ed, Eu]}\n";
     y += "water:\n  level_m: 0\n";
     // Table 10.2: Beaufort/RMS surface at 6 m/s, 0.25 m grid, decimated to 30,000 triangles; the
     // surface spans the domain exactly. The wind comes from the west (blows toward +x, offshore).
-    y += fmt::format("  surface:\n    model: beaufort\n    wind_speed: 6.0\n    wind_from_deg: 270\n"
+    y += fmt::format("  surface:\n    model: beaufort\n    wind_speed: {:.1f}\n    wind_from_deg: 270\n"
                      "    size: [{}, {}]\n    centre: [{}, {}]\n    spacing: 0.25\n    triangles: {}\n    seed: {}\n",
-                     kX1 - kX0, kY1 - kY0, 0.5 * (kX0 + kX1), 0.5 * (kY0 + kY1), opt.surfaceTriangles, seed);
+                     sc.windSpeed, kX1 - kX0, kY1 - kY0, 0.5 * (kX0 + kX1), 0.5 * (kY0 + kY1), opt.surfaceTriangles, seed);
     // Coastal water from its constituents, with pure sea water (Pope & Fry absorption, Morel
     // scattering): defined over the visible to 0.7 um, so that the three bands show depth as it is
     // seen in nature (red lost first). The dissertation's Table 10.3 waters are tabulated to 0.6 um
     // only; the coastal configurations (littoral coastal) use them. In-scattered light from the
     // volume photon map (Table 10.4: MediumPM for the water volume).
-    y += "  optics:\n    constituents: {chlorophyll_mg_m3: 0.5, sediment_g_m3: 0.2, cdom_440_per_m: 0.02}\n"
-         "    solver: medium-pm\n";
+    y += "  optics:\n";
+    y += sc.optics.empty() ? "    constituents: {chlorophyll_mg_m3: 0.5, sediment_g_m3: 0.2, cdom_440_per_m: 0.02}\n"
+                           : sc.optics;
+    y += sc.photonMaps ? "    solver: medium-pm\n" : "    solver: attenuation\n";
     return y;
 }
 
 // The scene file's bathymetry, materials and texture classes.
-std::string siteGround(const bathymetry::BarTrough& profile) {
+// A SurfacePM material or class takes the Classic solver in the non-photon-mapped rendering.
+const char* siteSolver(const char* solver, const SiteScene& sc) {
+    return !sc.photonMaps && std::string(solver) == "surface-pm" ? "classic" : solver;
+}
+
+std::string siteGround(const bathymetry::BarTrough& profile, const SiteScene& sc) {
     std::string y;
     y += "bathymetry:\n  type: bar_trough\n";
     y += fmt::format("  A: {}\n  shoreline_x_m: {}\n  offshore: \"+x\"\n  beach_slope: {}\n  berm_height_m: {}\n",
@@ -251,9 +262,9 @@ std::string siteGround(const bathymetry::BarTrough& profile) {
     y += "materials:\n";
     y += "  - {name: fiberglass, reflectance: 0.55, solver: generic}\n";
     y += "  - {name: aluminum, reflectance: 0.65, solver: generic}\n";
-    y += "  - {name: pier-cement, reflectance: 0.33, solver: surface-pm}\n";
-    y += "  - {name: target-bright, reflectance: 0.80, solver: surface-pm}\n";
-    y += "  - {name: target-dark, reflectance: 0.05, solver: surface-pm}\n";
+    y += fmt::format("  - {{name: pier-cement, reflectance: 0.33, solver: {}}}\n", siteSolver("surface-pm", sc));
+    y += fmt::format("  - {{name: target-bright, reflectance: 0.80, solver: {}}}\n", siteSolver("surface-pm", sc));
+    y += fmt::format("  - {{name: target-dark, reflectance: 0.05, solver: {}}}\n", siteSolver("surface-pm", sc));
     y += "  - {name: buoy-paint, reflectance: 0.45}\n";
     y += "texture_classes:\n  map: classes.png\n";
     y += fmt::format("  extent: {{x: [{}, {}], y: [{}, {}]}}\n  classes:\n", kX0, kX1, kY0, kY1);
@@ -261,13 +272,13 @@ std::string siteGround(const bathymetry::BarTrough& profile) {
         const auto& ci = kClasses[k];
         y += fmt::format("    - {{index: {}, name: {}, texture: textures/{}.png, mean: {}, stddev: {}, solver: {},\n"
                          "       reflectance: {}}}\n",
-                         k, ci.name, ci.name, ci.mean, ci.stddev, ci.solver, spectrumYaml(ci.reflectance));
+                         k, ci.name, ci.name, ci.mean, ci.stddev, siteSolver(ci.solver, sc), spectrumYaml(ci.reflectance));
     }
     return y;
 }
 
 // The scene file's objects and render settings.
-std::string siteObjectsAndRender(const std::vector<Target>& targets) {
+std::string siteObjectsAndRender(const std::vector<Target>& targets, const SiteScene& sc) {
     std::string y;
     y += "objects:\n";
     y += fmt::format("  - {{name: pier, mesh: objects/pier.ply, materials: [pier-cement, pier-cement], "
@@ -284,13 +295,27 @@ std::string siteObjectsAndRender(const std::vector<Target>& targets) {
     // configuration C used 50 M surface and 70 M volume photons (bench_render_site measures that);
     // the demo uses fewer so that it renders in about a minute on 2 cores.
     // Three bands over 0.4-0.7 um (blue, green, red): a true-colour preview (core/colour.h).
+    if (!sc.render.empty()) return y + sc.render;
     y += "render:\n  bands: {range_um: [0.4, 0.7], count: 3}\n  seed: 1\n"
          "  photons: {surface: 2000000, volume: 2000000}\n  search_radius_m: {surface: 0.4, volume: 0.4}\n"
          "  march_step_m: 0.5\n";
     return y;
 }
 
+auto siteTerrain(const bathymetry::BarTrough& profile) {
+    return bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
+}
+
 }  // namespace
+
+std::vector<SiteTarget> siteTargets(uint64_t seed) {
+    const auto profile = siteProfile();
+    const auto terrain = siteTerrain(profile);
+    std::vector<SiteTarget> out;
+    for (const auto& t : placeTargets(seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain->elevation(x, y); }))
+        out.push_back({t.x, t.y, t.top});
+    return out;
+}
 
 std::vector<fs::path> writeObjectLibrary(const fs::path& dir) {
     createOutputFolder(dir);
@@ -310,7 +335,7 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     createOutputFolder(dir / "objects");
     const uint64_t seed = opt.seed;
     const auto profile = siteProfile();
-    const auto terrain = bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
+    const auto terrain = siteTerrain(profile);
     const std::vector<Target> targets = placeTargets(
         seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain->elevation(x, y); });
     for (const auto& t : targets) s.targetTopDepths.push_back(t.top);
@@ -319,7 +344,8 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     writeClassTextures(dir, seed, s);
     writeSiteObjects(dir / "objects", targets, s);
     s.sceneFile = dir / "scene.yaml";
-    writeTextFileAtomic(s.sceneFile, siteSceneAndWater(seed, opt) + siteGround(profile) + siteObjectsAndRender(targets));
+    writeTextFileAtomic(s.sceneFile, siteSceneAndWater(seed, opt) + siteGround(profile, opt.scene) +
+                                          siteObjectsAndRender(targets, opt.scene));
     s.files.push_back(s.sceneFile);
     // The site is complete: publish it (inside a command's output set the files are only staged
     // until now), so its sizes can be read and the build that follows can read it.

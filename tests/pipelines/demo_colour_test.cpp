@@ -25,28 +25,8 @@ using namespace littoral;
 using littoral::testing_support::runLittoral;
 using littoral::testing_support::scratchDir;
 
-namespace {
-
-int materialIdIn(const fs::path& legend, const std::string& name) {
-    std::ifstream in(legend);
-    std::string line;
-    while (std::getline(in, line)) {
-        std::stringstream ls(line);
-        std::string id, n;
-        std::getline(ls, id, ',');
-        std::getline(ls, n, ',');
-        if (n == name) return std::stoi(id);
-    }
-    return -2;
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
-
-}  // namespace
+using littoral::testing_support::legendId;
+using littoral::testing_support::medianOf;
 
 TEST(DemoColour, DeeperWaterIsDarkerInRedThanInBlueGreen) {
     const fs::path dir = scratchDir("demo_colour", "demo");
@@ -57,7 +37,7 @@ TEST(DemoColour, DeeperWaterIsDarkerInRedThanInBlueGreen) {
     const render::TruthImages truth = render::readTruthExr(out / "sim-c-nadir_truth.exr");
     ASSERT_EQ(film.bandCount(), 3);
     EXPECT_TRUE(fs::exists(out / "sim-c-nadir_rgb.png"));
-    const int sand = materialIdIn(out / "sim-c-nadir_legend.csv", "wet-sand");
+    const int sand = legendId(out / "sim-c-nadir_legend.csv", "wet-sand");
     ASSERT_GE(sand, 0);
     std::vector<double> shallow[3], deep[3];
     for (int y = 0; y < film.height; ++y)
@@ -73,7 +53,7 @@ TEST(DemoColour, DeeperWaterIsDarkerInRedThanInBlueGreen) {
     ASSERT_GT(shallow[0].size(), 1000u);
     ASSERT_GT(deep[0].size(), 1000u);
     double ratio[3];
-    for (int b = 0; b < 3; ++b) ratio[b] = median(deep[b]) / median(shallow[b]);
+    for (int b = 0; b < 3; ++b) ratio[b] = medianOf(deep[b]) / medianOf(shallow[b]);
     std::printf("deep / shallow medians: blue %.3f, green %.3f, red %.3f (%zu and %zu pixels)\n", ratio[0], ratio[1],
                 ratio[2], shallow[0].size(), deep[0].size());
     // Bands in order of wavelength: 0.4-0.5 (blue), 0.5-0.6 (green), 0.6-0.7 um (red).

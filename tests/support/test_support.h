@@ -4,6 +4,7 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -121,6 +122,27 @@ inline std::vector<std::string> markdownBlocks(const std::filesystem::path& md, 
         }
     }
     return blocks;
+}
+
+// The id a truth legend (NAME_legend.csv: id,material,...) gives the material `name`; -2 if absent.
+inline int legendId(const std::filesystem::path& legend, const std::string& name) {
+    std::ifstream in(legend);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::stringstream ls(line);
+        std::string id, n;
+        std::getline(ls, id, ',');
+        std::getline(ls, n, ',');
+        if (n == name) return std::stoi(id);
+    }
+    return -2;
+}
+
+// The median (upper of the middle two) of a sample; 0 for an empty one.
+inline double medianOf(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
 }
 
 // `text` with the first occurrence of `from` replaced by `to` (a failed expectation if absent).
