@@ -55,11 +55,7 @@ scenegen::SiteOptions siteFor(const CoastalConfiguration& c, const CoastalOption
     so.scene.probe = false;
     so.scene.optics = fmt::format("    preset: {}\n", c.water);
     so.scene.photonMaps = photonMaps;
-    so.scene.render = coastalRenderSection(o.full);
-    if (!photonMaps) {
-        // Without photon maps the photon counts would be settings no solver reads.
-        so.scene.render = "render:\n  bands: {range_um: [0.4, 0.6], count: 3}\n  seed: 1\n";
-    }
+    so.scene.render = coastalRenderSection(o.full, photonMaps);
     return so;
 }
 
@@ -86,13 +82,15 @@ const CoastalConfiguration& coastalConfiguration(const std::string& id) {
     throw InputError(fmt::format("coastal: unknown configuration '{}'; the configurations of Table 10.1 are A to J", id));
 }
 
-std::string coastalRenderSection(bool full) {
+std::string coastalRenderSection(bool full, bool photonMaps) {
     // Table 10.3 tabulates the waters at 0.4, 0.5 and 0.6 um: three bands over that range.
     // Full: the dissertation's 50 M surface and 70 M volume photons, SR 0.4 m (§3.6). Quick: 1 M
-    // of each, the same radius, fewer hemisphere rays for the Classic solver.
+    // of each, the same radius, fewer hemisphere rays for the Classic solver. Without photon maps
+    // the photon settings are left out (no solver would read them, and the scene would be refused).
     std::string r = "render:\n  bands: {range_um: [0.4, 0.6], count: 3}\n  seed: 1\n";
-    r += full ? "  photons: {surface: 50000000, volume: 70000000}\n"
-              : "  photons: {surface: 1000000, volume: 1000000}\n  hemisphere_samples: 16\n";
+    if (!full) r += "  hemisphere_samples: 16\n";
+    if (!photonMaps) return r;
+    r += full ? "  photons: {surface: 50000000, volume: 70000000}\n" : "  photons: {surface: 1000000, volume: 1000000}\n";
     r += "  search_radius_m: {surface: 0.4, volume: 0.4}\n  march_step_m: 0.5\n";
     return r;
 }

@@ -39,8 +39,9 @@ struct CoastalOptions {
     }();
 };
 
-// The render section of a configuration's scene at quick or full settings.
-std::string coastalRenderSection(bool full);
+// The render section of a configuration's scene at quick or full settings, with or without the
+// photon maps.
+std::string coastalRenderSection(bool full, bool photonMaps);
 
 // Writes the synthetic site configured as options.configuration (with or without photon maps)
 // into dir; returns its scene file.

@@ -89,6 +89,49 @@ double pierShadowFraction(const Render& r, double gsd) {
     return strip.empty() ? 0.0 : static_cast<double>(dark) / static_cast<double>(strip.size());
 }
 
+// The southern edge of the pier's shadow on the seabed over the columns x0..x1 of the nadir view
+// D, measured and predicted (m of y).
+// - Measured: per column, the top of the first row south of y = -25.6 whose radiance exceeds the
+//   mean of the shadow's level (median over y -26.5..-25.6) and the lit seabed's just south of it
+//   (y -29.5..-28.9). The median over the columns is used, since a few columns meet a piling.
+// - Predicted, apart from the renderer: the deck's south top edge (y = -25.25, z = 2 m) is cast
+//   along the sun's azimuth (135 deg, so the y offset is 0.707 of the horizontal one). The cast
+//   runs (2 - eta) tan 60 to the water surface at its local level eta, then (d + eta) tan(theta_w)
+//   to the seabed at depth d, with sin theta_w = sin 60 / 1.34. eta and d are medians over the
+//   edge's neighbourhood from the truth layers: eta = 500 - range cos(alpha) (the camera is 500 m
+//   above z = 0, alpha is the ray's angle off nadir), d = hitDepth.
+struct ShadowEdge {
+    double measured, predicted;
+};
+ShadowEdge pierShadowEdge(const Render& r, double x0, double x1) {
+    const NadirGrid g{r.film.width, r.film.height, 0.1};
+    auto medianIn = [&](double ya, double yb, auto value) {
+        std::vector<double> v;
+        for (int j = g.row(yb); j <= g.row(ya); ++j)
+            for (int i = g.col(x0); i <= g.col(x1); ++i) v.push_back(value(i, j));
+        return medianOf(v);
+    };
+    auto radiance = [&](int i, int j) { return static_cast<double>(r.film.at(i, j, 1)); };
+    const double mid = 0.5 * (medianIn(-26.5, -25.6, radiance) + medianIn(-29.5, -28.9, radiance));
+    std::vector<double> edges;
+    for (int i = g.col(x0); i <= g.col(x1); ++i)
+        for (int j = g.row(-25.6); j < r.film.height; ++j)
+            if (r.film.at(i, j, 1) > mid) {
+                edges.push_back((0.5 * g.H - j) * g.gsd);
+                break;
+            }
+    const double eta = medianIn(-28.5, -27.0, [&](int i, int j) {
+        const double x = (i + 0.5 - 0.5 * g.W) * g.gsd, y = (0.5 * g.H - j - 0.5) * g.gsd;
+        return 500.0 - r.truth.range[r.truth.index(i, j)] * 500.0 / std::sqrt(500.0 * 500.0 + x * x + y * y);
+    });
+    const double d = medianIn(-28.5, -27.5, [&](int i, int j) { return static_cast<double>(r.truth.hitDepth[r.truth.index(i, j)]); });
+    const double thetaW = std::asin(std::sin(M_PI / 3) / 1.34);
+    const double predicted = -25.25 - std::sqrt(0.5) * ((2.0 - eta) * std::tan(M_PI / 3) + (d + eta) * std::tan(thetaW));
+    std::printf("x %.0f..%.0f: water level %.3f m, seabed %.3f m deep; shadow edge y = %.3f m (predicted %.3f)\n", x0,
+                x1, eta, d, medianOf(edges), predicted);
+    return {medianOf(edges), predicted};
+}
+
 // Michelson contrast (B - D) / (B + D) of the medians over the pixels whose first opaque surface is
 // a target's bright or dark half (all four targets, 0.5-2.75 m deep).
 double targetContrast(const Render& r) {
@@ -181,6 +224,16 @@ TEST(CoastalRuns, ShadowsLengthenFromCToDAndTargetContrastFallsFromDToIToJ) {
     std::printf("shadowed share of the strip south of the pier: C %.3f, D %.3f\n", sc, sd);
     EXPECT_GT(sd, 0.4);
     EXPECT_GT(sd, 1.8 * sc);
+    // The shadow is longer over deeper water ("elongated at deeper water depths"; Ch. 10 on B),
+    // measured in D, whose rows map to y: over sand about 0.6 m deep (x -19..-16) and 1.25 m deep
+    // (x -10..-7). Tolerance 0.15 m: the reported edge is the top of a 0.1 m row (the true edge lies
+    // within the row above it), and eta's median is good to a few centimetres, which moves the
+    // prediction by 0.6 of that. The surface map's 0.4 m disc blurs the edge symmetrically about
+    // the mid-level.
+    const ShadowEdge shallow = pierShadowEdge(d, -19, -16), deep = pierShadowEdge(d, -10, -7);
+    EXPECT_NEAR(shallow.measured, shallow.predicted, 0.15);
+    EXPECT_NEAR(deep.measured, deep.predicted, 0.15);
+    EXPECT_GT(shallow.measured - deep.measured, 0.15);  // the predicted lengthening is about 0.33 m
     const double kd = targetContrast(d);
     const double ki = targetContrast(renderConfiguration(dir, 'I'));
     const double kj = targetContrast(renderConfiguration(dir, 'J'));

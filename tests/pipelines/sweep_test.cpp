@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -355,7 +356,7 @@ TEST(Resume, ProgressiveRunKilledAfterPassTwoOfFourEqualsTheUninterruptedRun) {
 TEST(Resume, PathTracedRunKilledMidRenderEqualsTheUninterruptedRun) {
     const fs::path dir = scratchDir("sweep", "resume_path");
     std::string text = replacedOnce(kSmallScene, "width: 16, height: 12",
-                                    "width: 64, height: 48, samples_per_pixel: 16}\n  - {name: oblique, type: frame, "
+                                    "width: 64, height: 48, samples_per_pixel: 64}\n  - {name: oblique, type: frame, "
                                     "elevation_deg: 60, azimuth_deg: 90, range_m: 50, gsd_m: 0.5, width: 32, height: 24");
     text = replacedOnce(text, "probe_samples: 64, hemisphere_samples: 4", "estimator: path, probe_samples: 64");
     const fs::path scene = writeTextFile(dir, "scene.yaml", text), out = dir / "killed";
@@ -365,14 +366,29 @@ TEST(Resume, PathTracedRunKilledMidRenderEqualsTheUninterruptedRun) {
     unsetenv("LITTORAL_CHECKPOINT_SECONDS");
     ASSERT_GT(pid, 0);
     const fs::path state = out / "render.checkpoint" / "state.json";
+    // Kill once the checkpoint has been saved at least three times. Under a loaded machine the
+    // poll may miss generation 3 itself, so any later one counts; a run that ends first is
+    // reported at once instead of after the timeout.
+    auto generation = [&] {
+        const std::string t = fs::exists(state) ? slurp(state) : std::string();
+        const auto k = t.find("\"generation\": ");
+        return k == std::string::npos ? -1 : std::atoi(t.c_str() + k + 14);
+    };
+    int st = 0;
+    bool exited = false;
     const auto t0 = std::chrono::steady_clock::now();
     while (std::chrono::steady_clock::now() - t0 < std::chrono::minutes(3)) {
-        if (fs::exists(state) && slurp(state).find("\"generation\": 3") != std::string::npos) break;
+        if (generation() >= 3) break;
+        if (waitpid(pid, &st, WNOHANG) == pid) {
+            exited = true;
+            break;
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    ::kill(pid, SIGKILL);
-    int st = 0;
-    waitpid(pid, &st, 0);
+    if (!exited) {
+        ::kill(pid, SIGKILL);
+        waitpid(pid, &st, 0);
+    }
     ASSERT_TRUE(WIFSIGNALED(st)) << "the run ended before it could be killed";
     const std::string saved = slurp(state);
     ASSERT_NE(saved.find('1'), std::string::npos) << saved;
