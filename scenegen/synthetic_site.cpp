@@ -306,14 +306,17 @@ auto siteTerrain(const bathymetry::BarTrough& profile) {
     return bathymetry::makeBarTrough({kX0 - 10, kY0 - 10, kX1 + 10, kY1 + 10}, profile);
 }
 
+// The step targets on the site's seabed (placeTargets with the terrain's depth).
+std::vector<Target> siteTargetsOn(uint64_t seed, const bathymetry::BarTrough& profile, const bathymetry::Terrain& terrain) {
+    return placeTargets(seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain.elevation(x, y); });
+}
+
 }  // namespace
 
 std::vector<SiteTarget> siteTargets(uint64_t seed) {
     const auto profile = siteProfile();
-    const auto terrain = siteTerrain(profile);
     std::vector<SiteTarget> out;
-    for (const auto& t : placeTargets(seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain->elevation(x, y); }))
-        out.push_back({t.x, t.y, t.top});
+    for (const auto& t : siteTargetsOn(seed, profile, *siteTerrain(profile))) out.push_back({t.x, t.y, t.top});
     return out;
 }
 
@@ -336,8 +339,7 @@ SiteSummary writeSyntheticSite(const fs::path& dir, const SiteOptions& opt) {
     const uint64_t seed = opt.seed;
     const auto profile = siteProfile();
     const auto terrain = siteTerrain(profile);
-    const std::vector<Target> targets = placeTargets(
-        seed, profile.dean.shorelineX, [&](double x, double y) { return -terrain->elevation(x, y); });
+    const std::vector<Target> targets = siteTargetsOn(seed, profile, *terrain);
     for (const auto& t : targets) s.targetTopDepths.push_back(t.top);
 
     writeClassMap(dir, opt, *terrain, targets, s);

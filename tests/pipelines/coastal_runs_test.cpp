@@ -23,30 +23,43 @@ using littoral::testing_support::scratchDir;
 
 namespace {
 
+// One sensor's radiance, truth and legend in a run's output folder.
 struct Render {
+    fs::path out;
+    std::string name;
     render::Film film;
     render::TruthImages truth;
     fs::path legend;
 };
 
+Render readRender(const fs::path& out, const std::string& name) {
+    return {out, name, render::readExr(out / (name + ".exr")), render::readTruthExr(out / (name + "_truth.exr")),
+            out / (name + "_legend.csv")};
+}
+
 Render renderConfiguration(const fs::path& dir, char id) {
     const fs::path out = dir / std::string(1, id);
     const auto r = runLittoral(fmt::format("-q coastal {} --out {}", id, out.string()));
     EXPECT_EQ(r.status, 0) << r.output;
-    const std::string name = fmt::format("sim-{}", static_cast<char>(std::tolower(id)));
-    return {render::readExr(out / (name + ".exr")), render::readTruthExr(out / (name + "_truth.exr")),
-            out / (name + "_legend.csv")};
+    return readRender(out, fmt::format("sim-{}", static_cast<char>(std::tolower(id))));
+}
+
+// Band `band` of `image` (the radiance or a water product of the same sensor) at the pixels whose
+// first hit is the water surface.
+std::vector<double> waterValues(const Render& r, const render::Film& image, int band) {
+    const int water = legendId(r.legend, "air-water-interface");
+    EXPECT_GE(water, 0);
+    std::vector<double> v;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            if (r.truth.materialId[r.truth.index(x, y)] == water) v.push_back(image.at(x, y, band));
+    return v;
 }
 
 // The share of the water pixels (first hit: the interface) brighter than 20 times their median,
 // in the 0.47-0.53 um band: glints of the sun on facets that mirror it into the sensor.
 double glintFraction(const Render& r) {
-    const int water = legendId(r.legend, "air-water-interface");
-    EXPECT_GE(water, 0);
-    std::vector<double> v;
-    for (int y = 0; y < r.film.height; ++y)
-        for (int x = 0; x < r.film.width; ++x)
-            if (r.truth.materialId[r.truth.index(x, y)] == water) v.push_back(r.film.at(x, y, 1));
+    const std::vector<double> v = waterValues(r, r.film, 1);
     const double m = medianOf(v);
     size_t bright = 0;
     for (double L : v) bright += L > 20 * m ? 1 : 0;
@@ -259,14 +272,8 @@ TEST(CoastalRuns, HWithAndWithoutPhotonMaps) {
     double water[2];
     int k = 0;
     for (const char* sub : {"photon-maps", "no-photon-maps"}) {
-        const fs::path out = dir / "H" / sub;
-        const render::Film film = render::readExr(out / "sim-h.exr");
-        const render::TruthImages truth = render::readTruthExr(out / "sim-h_truth.exr");
-        const int id = legendId(out / "sim-h_legend.csv", "air-water-interface");
-        std::vector<double> v;
-        for (int y = 0; y < film.height; ++y)
-            for (int x = 0; x < film.width; ++x)
-                if (truth.materialId[truth.index(x, y)] == id) v.push_back(film.at(x, y, 0));
+        const Render h = readRender(dir / "H" / sub, "sim-h");
+        const std::vector<double> v = waterValues(h, h.film, 0);
         EXPECT_GT(v.size(), 10000u);
         water[k++] = medianOf(v);
     }
@@ -287,13 +294,7 @@ TEST(CoastalRuns, FresnelReflectanceHigherAtFsGrazingViewThanAtEs) {
     int k = 0;
     for (char id : {'E', 'F'}) {
         const Render r = renderConfiguration(dir, id);
-        const std::string name = fmt::format("sim-{}", static_cast<char>(std::tolower(id)));
-        const render::Film s = render::readEnvi(dir / std::string(1, id) / (name + "_sky_reflected.img"));
-        const int water = legendId(r.legend, "air-water-interface");
-        std::vector<double> v;
-        for (int y = 0; y < s.height; ++y)
-            for (int x = 0; x < s.width; ++x)
-                if (r.truth.materialId[r.truth.index(x, y)] == water) v.push_back(s.at(x, y, 1));
+        const std::vector<double> v = waterValues(r, render::readEnvi(r.out / (r.name + "_sky_reflected.img")), 1);
         EXPECT_GT(v.size(), 10000u);
         sky[k++] = medianOf(v);
     }
