@@ -21,11 +21,11 @@
 #include "render/estimator.h"
 #include "render/probes.h"
 #include "scenegen/assemble.h"
-#include "tests/support/mobley1993.h"
+#include "pipelines/reference/mobley1993.h"
 
 namespace fs = std::filesystem;
 using namespace littoral;
-namespace mb = littoral::testing_support::mobley1993;
+namespace mb = littoral::reference::mobley1993;
 
 namespace {
 

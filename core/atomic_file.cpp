@@ -139,6 +139,14 @@ void checkOutputTarget(const fs::path& target) {
     InputFiles& f = inputFiles();
     std::lock_guard<std::mutex> lock(f.m);
     const auto it = f.files.find({st.st_dev, st.st_ino});
+    // A noted input that is no longer at its path with that inode was deleted (a scratch file the
+    // command removed), and the file system has since given its inode to this target.
+    struct stat now;
+    if (it != f.files.end() &&
+        (::stat(it->second.c_str(), &now) != 0 || now.st_dev != st.st_dev || now.st_ino != st.st_ino)) {
+        f.files.erase(it);
+        return;
+    }
     if (it != f.files.end())
         throw InputError(SourceLoc{target.string()},
                          fmt::format("refusing to write output: it would replace '{}', which this command reads as an "

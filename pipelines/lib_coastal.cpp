@@ -1,11 +1,14 @@
 #include "pipelines/lib_coastal.h"
 
 #include <cctype>
+#include <cstring>
 #include <filesystem>
 
 #include <fmt/format.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "pipelines/lib_embedded.h"
 #include "pipelines/lib_scene.h"
 #include "scenegen/synthetic_site.h"
 
@@ -79,7 +82,33 @@ const CoastalConfiguration& coastalConfiguration(const std::string& id) {
     if (id.size() == 1)
         for (const auto& c : kConfigurations)
             if (c.id == std::toupper(static_cast<unsigned char>(id[0]))) return c;
-    throw InputError(fmt::format("coastal: unknown configuration '{}'; the configurations of Table 10.1 are A to J", id));
+    throw InputError(fmt::format("coastal: unknown configuration '{}'; the configurations of Table 10.1 are A to J, and "
+                                 "Section 10.4's demonstrations are 'cube' and 'shadows'",
+                                 id));
+}
+
+const CoastalDemonstration* coastalDemonstration(const std::string& name) {
+    static const CoastalDemonstration kDemonstrations[] = {
+        {"cube", "the caustic of a floating epoxy cube (Section 10.4, Fig. 10.21)", "demos/floating_cube", "../objects/cube.ply",
+         1, 1, 1},
+        {"shadows", "the floating-box shadow series (Section 10.4, Fig. 10.19)", "demos/box_shadows",
+         "../objects/box_2x2x1.obj", 2, 2, 1},
+    };
+    for (const auto& d : kDemonstrations)
+        if (name == d.name) return &d;
+    return nullptr;
+}
+
+void checkCoastalName(const CoastalOptions& o) {
+    if (!coastalDemonstration(o.configuration)) {
+        (void)coastalConfiguration(o.configuration);
+        return;
+    }
+    if (o.full || o.seedGiven)
+        throw InputError(fmt::format("coastal {}: {} applies to the configurations A to J; '{}' has one setting, the "
+                                     "scene file data_synthetic/{}.yaml",
+                                     o.configuration, o.full ? "--full" : "--seed", o.configuration,
+                                     coastalDemonstration(o.configuration)->scene));
 }
 
 std::string coastalRenderSection(bool full, bool photonMaps) {
@@ -99,7 +128,31 @@ fs::path writeCoastalSite(const CoastalOptions& o, const fs::path& dir, bool pho
     return scenegen::writeSyntheticSite(dir, siteFor(coastalConfiguration(o.configuration), o, photonMaps)).sceneFile;
 }
 
+// A Section 10.4 demonstration: its built-in scene file into out/scene with its mesh written beside
+// it, then run into out.
+std::string runDemonstration(const CoastalDemonstration& d, const CoastalOptions& o) {
+    const fs::path out(o.out), sceneDir = out / "scene";
+    std::string yaml = embeddedSceneText(d.scene);
+    const std::string mesh = std::string(d.name) + ".obj";
+    size_t n = 0;
+    for (auto at = yaml.find(d.meshReference); at != std::string::npos; at = yaml.find(d.meshReference, at + mesh.size()), ++n)
+        yaml.replace(at, std::strlen(d.meshReference), mesh);
+    if (n == 0) throw InternalError(fmt::format("built-in scene {} names no mesh {}", d.scene, d.meshReference));
+    writeTextFileAtomic(sceneDir / "scene.yaml", yaml);
+    writeTextFileAtomic(sceneDir / mesh, boxObj(d.sizeX, d.sizeY, d.height));
+    publishStagedOutputs();  // read back by the build below
+    RunOptions ro;
+    ro.scene = (sceneDir / "scene.yaml").string();
+    ro.out = out.string();
+    ro.threads = o.threads;
+    ro.progress = o.progress;
+    ro.preview = o.preview;
+    return fmt::format("{}: {} -> {}\n", d.name, d.description, out.string()) + runScene(ro);
+}
+
 std::string runCoastal(const CoastalOptions& o) {
+    checkCoastalName(o);
+    if (const CoastalDemonstration* d = coastalDemonstration(o.configuration)) return runDemonstration(*d, o);
     const CoastalConfiguration& c = coastalConfiguration(o.configuration);
     const fs::path out(o.out);
     if (c.id != 'H') return runOne(c, o, out, true);

@@ -25,11 +25,24 @@ const std::vector<CoastalConfiguration>& coastalConfigurations();
 // The configuration with this letter (case-insensitive); InputError listing A-J otherwise.
 const CoastalConfiguration& coastalConfiguration(const std::string& id);
 
+// A demonstration of the dissertation's Section 10.4 as a named run of `littoral coastal`: its
+// scene file (data_synthetic/<scene>.yaml, built in) and the box mesh it floats.
+struct CoastalDemonstration {
+    const char* name;           // "cube", "shadows"
+    const char* description;
+    const char* scene;          // built-in scene (pipelines/lib_embedded.h)
+    const char* meshReference;  // the mesh path in that scene file, replaced by the written box
+    double sizeX, sizeY, height;
+};
+// The demonstration of this name, or nullptr.
+const CoastalDemonstration* coastalDemonstration(const std::string& name);
+
 struct CoastalOptions {
-    std::string configuration;  // A-J
+    std::string configuration;  // A-J, or a demonstration's name
     std::string out;
     bool full = false;          // the dissertation's 50 M + 70 M photons; else quick settings
     uint64_t seed = 2010;
+    bool seedGiven = false;     // --seed on the command line (refused with a demonstration)
     int threads = 0;
     bool progress = true;
     render::PreviewOptions preview = [] {
@@ -47,7 +60,12 @@ std::string coastalRenderSection(bool full, bool photonMaps);
 // into dir; returns its scene file.
 std::filesystem::path writeCoastalSite(const CoastalOptions& options, const std::filesystem::path& dir, bool photonMaps);
 
-// Writes the site configured as `configuration` into out/site and runs it into out. H is
+// InputError, before anything is written, for a name that is neither A-J nor a demonstration, and
+// for --full with a demonstration (it has one setting).
+void checkCoastalName(const CoastalOptions& options);
+
+// Writes the site configured as `configuration` into out/site and runs it into out (a
+// demonstration: its scene file and mesh into out/scene, then runs it into out). H is
 // rendered twice, as in Fig. 10.7: with photon maps into out/photon-maps and without (Classic
 // solvers, scattering counted as loss) into out/no-photon-maps. Returns the runs' summaries.
 std::string runCoastal(const CoastalOptions& options);

@@ -10,7 +10,7 @@
 #include "core/cox_munk_fit.h"
 #include "core/error.h"
 #include "core/units.h"
-#include "pipelines/lib_svg_plot.h"
+#include "pipelines/lib_plot.h"
 #include "scenegen/assembly_sections.h"
 #include "scenegen/surface_section.h"
 
@@ -200,20 +200,21 @@ nlohmann::json profilesJson(const ColumnScene& cs, const std::vector<column::Col
     return j;
 }
 
-std::string profilesSvg(const std::vector<column::ColumnResult>& results) {
-    PlotSpec p = plotSpec("Irradiance profiles (littoral column)", "depth, m", "irradiance, W m^-2 um^-1", false, true);
+Chart profilesChart(const std::vector<column::ColumnResult>& results) {
+    PlotSpec p = plotSpec("Irradiance profiles (littoral column)", "irradiance, W m^-2 um^-1", "depth, m", true, false);
+    p.invertY = true;
     for (const auto& r : results)
         for (const char* q : {"Ed", "Eu", "Eod", "Eou"}) {
             PlotSeries s = plotSeries(fmt::format("{} {:g}-{:g} um", q, r.band.lo, r.band.hi));
             s.markers = false;
             s.dashed = q[1] == 'o';
             for (const auto& d : r.depths) {
-                s.x.push_back(d.depth);
-                s.y.push_back(q == std::string("Ed") ? d.Ed : q == std::string("Eu") ? d.Eu : q == std::string("Eod") ? d.Eod : d.Eou);
+                s.y.push_back(d.depth);
+                s.x.push_back(q == std::string("Ed") ? d.Ed : q == std::string("Eu") ? d.Eu : q == std::string("Eod") ? d.Eod : d.Eou);
             }
             p.series.push_back(std::move(s));
         }
-    return svgLineChart(p);
+    return {"profiles.png", p};
 }
 
 std::string summary(const std::vector<column::ColumnResult>& results, const ColumnScene& cs) {
@@ -248,10 +249,11 @@ std::string runColumn(const ColumnOptions& o) {
     writeTextFileAtomic(out / "profiles.csv", profilesCsv(results));
     writeTextFileAtomic(out / "profiles.json", profilesJson(cs, results, o).dump(2) + "\n");
     writeTextFileAtomic(out / "radiance.csv", radianceCsv(results));
-    writeTextFileAtomic(out / "profiles.svg", profilesSvg(results));
+    const std::string why = drawCharts(out, {profilesChart(results)});
     std::string s = summary(results, cs);
+    if (!why.empty()) s += "warning: " + why + "\n";
     s += fmt::format("solved {} band(s) at {} depth(s) in {:.3f} s\n", results.size(), cs.depths.size(), seconds);
-    for (const char* f : {"profiles.csv", "profiles.json", "radiance.csv", "profiles.svg"}) s += fmt::format("  {}\n", (out / f).string());
+    for (const char* f : {"profiles.csv", "profiles.json", "radiance.csv", "profiles.png"}) s += fmt::format("  {}\n", (out / f).string());
     return s;
 }
 

@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "pipelines/lib_scene.h"
-#include "pipelines/lib_svg_plot.h"
+#include "pipelines/lib_plot.h"
 #include "render/render_job.h"
 #include "scenegen/assemble.h"
 #include "scenegen/mesh_io.h"
@@ -331,7 +331,7 @@ void writeTable(const std::vector<ImageQualityRow>& rows, const fs::path& out) {
 }
 
 // SNR against the radius (per depth and density, both sides), FWHM and tails against the radius.
-void writeRadiusFigures(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, const fs::path& out) {
+void addRadiusFigures(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, std::vector<Chart>* charts) {
     PlotSpec snr = plotSpec("SNR against search radius (" + o.water + fmt::format(", HG g = {})", o.g),
                             "search radius (m)", "SNR", true, true);
     PlotSpec fw = plotSpec("LSF FWHM and 10-90% edge width", "search radius (m)", "m");
@@ -356,13 +356,13 @@ void writeRadiusFigures(const ImageQualityOptions& o, const std::vector<ImageQua
             fw.series.push_back(f1), fw.series.push_back(f2);
             tail.series.push_back(t1);
         }
-    writeTextFileAtomic(out / "snr_vs_radius.svg", svgLineChart(snr));
-    writeTextFileAtomic(out / "fwhm_vs_radius.svg", svgLineChart(fw));
-    writeTextFileAtomic(out / "tails_vs_radius.svg", svgLineChart(tail));
+    charts->push_back({"snr_vs_radius.png", snr});
+    charts->push_back({"fwhm_vs_radius.png", fw});
+    charts->push_back({"tails_vs_radius.png", tail});
 }
 
 // SNR against the photon density, per depth and radius (only with several densities).
-void writeDensityFigure(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, const fs::path& out) {
+void addDensityFigure(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, std::vector<Chart>* charts) {
     if (o.densities.size() <= 1) return;
     PlotSpec sn = plotSpec("SNR against photon density", "volume photons per m^3", "SNR", true, true);
     for (double depth : o.depths)
@@ -372,11 +372,12 @@ void writeDensityFigure(const ImageQualityOptions& o, const std::vector<ImageQua
                 if (r.depth == depth && r.radius == radius) sb.x.push_back(r.density), sb.y.push_back(r.m.bright.snr);
             sn.series.push_back(sb);
         }
-    writeTextFileAtomic(out / "snr_vs_density.svg", svgLineChart(sn));
+    charts->push_back({"snr_vs_density.png", sn});
 }
 
 // Per depth, the ESFs and LSFs of the densest runs: a table and two figures.
-void writeEdgeProfiles(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, const fs::path& out) {
+void writeEdgeProfiles(const ImageQualityOptions& o, const std::vector<ImageQualityRow>& rows, const fs::path& out,
+                       std::vector<Chart>* charts) {
     const double densest = *std::max_element(o.densities.begin(), o.densities.end());
     for (double depth : o.depths) {
         PlotSpec es = plotSpec(fmt::format("ESF, target {:g} m deep, {:g} photons/m^3", depth, densest),
@@ -389,8 +390,10 @@ void writeEdgeProfiles(const ImageQualityOptions& o, const std::vector<ImageQual
             if (r.depth == depth && r.density == densest) {
                 sel.push_back(&r);
                 ecsv += fmt::format(",esf_r{:g},lsf_r{:g}", r.radius, r.radius);
-                es.series.push_back({fmt::format("SR {:g} m", r.radius), r.m.esfX, r.m.esf, false});
-                ls.series.push_back({fmt::format("SR {:g} m", r.radius), r.m.lsfX, r.m.lsf, false});
+                PlotSeries e = plotSeries(fmt::format("SR {:g} m", r.radius)), l = e;
+                e.x = r.m.esfX, e.y = r.m.esf, l.x = r.m.lsfX, l.y = r.m.lsf;
+                e.markers = l.markers = false;
+                es.series.push_back(std::move(e)), ls.series.push_back(std::move(l));
             }
         ecsv += "\n";
         for (size_t i = 0; !sel.empty() && i < sel[0]->m.esfX.size(); ++i) {
@@ -404,8 +407,8 @@ void writeEdgeProfiles(const ImageQualityOptions& o, const std::vector<ImageQual
             ecsv += "\n";
         }
         writeTextFileAtomic(out / fmt::format("esf_d{:g}.csv", depth), ecsv);
-        writeTextFileAtomic(out / fmt::format("esf_d{:g}.svg", depth), svgLineChart(es));
-        writeTextFileAtomic(out / fmt::format("lsf_d{:g}.svg", depth), svgLineChart(ls));
+        charts->push_back({fmt::format("esf_d{:g}.png", depth), es});
+        charts->push_back({fmt::format("lsf_d{:g}.png", depth), ls});
     }
 }
 
@@ -485,9 +488,11 @@ std::vector<ImageQualityRow> runImageQualityStudy(const ImageQualityOptions& o, 
             }
 
     writeTable(rows, out);
-    writeRadiusFigures(o, rows, out);
-    writeDensityFigure(o, rows, out);
-    writeEdgeProfiles(o, rows, out);
+    std::vector<Chart> charts;
+    addRadiusFigures(o, rows, &charts);
+    addDensityFigure(o, rows, &charts);
+    writeEdgeProfiles(o, rows, out, &charts);
+    if (const std::string why = drawCharts(out, charts); !why.empty()) log::warn("image quality: {}", why);
     if (summary) *summary = summaryText(rows, out);
     return rows;
 }

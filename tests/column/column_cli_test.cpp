@@ -9,11 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tests/support/mobley1993.h"
+#include "pipelines/reference/mobley1993.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
 using namespace littoral::testing_support;
+namespace mobley1993 = littoral::reference::mobley1993;
 
 namespace {
 
@@ -38,7 +39,7 @@ std::map<double, std::map<std::string, double>> runColumn(const std::string& fil
 
 // A deterministic solver has no standard error; its error is the discretisation's. So a cell passes
 // when |solver/mean - 1| <= 3 s/mean + rounding of the table's 3 digits (as for the Monte Carlo
-// estimators, tests/support/mobley1993.h) + the change from the default 8 to 16 Gauss directions per
+// estimators, pipelines/reference/mobley1993.h) + the change from the default 8 to 16 Gauss directions per
 // side of the Snell-window edge (a bound on the default's quadrature error, since the 16-direction
 // result has converged further).
 void checkProblem(const std::string& file, int problem, double w0, const std::vector<double>& taus, const std::string& depths) {
@@ -81,7 +82,7 @@ TEST(ColumnCli, WritesProfilesAndPrintsThem) {
     const fs::path out = scratchDir("column", "cli") / "out";
     const CommandResult r = runLittoral("column " + scene.string() + " --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
-    for (const char* f : {"profiles.csv", "profiles.json", "radiance.csv", "profiles.svg"}) EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+    for (const char* f : {"profiles.csv", "profiles.json", "radiance.csv", "profiles.png", "charts.json", "littoral_plots.py"}) EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
     EXPECT_NE(r.output.find("depth_m"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("Rrs"), std::string::npos) << r.output;
     // Default grid: 0 to the bottom (5 m) every metre, plus the probes' depths (1 and 4.999 m).

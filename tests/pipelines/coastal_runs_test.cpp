@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 using namespace littoral;
 using littoral::testing_support::legendId;
 using littoral::testing_support::medianOf;
+using littoral::testing_support::pngSize;
 using littoral::testing_support::runLittoral;
 using littoral::testing_support::scratchDir;
 
@@ -301,4 +302,26 @@ TEST(CoastalRuns, FresnelReflectanceHigherAtFsGrazingViewThanAtEs) {
     std::printf("sky-reflected water radiance, 0.47-0.53 um: E %.4f, F %.4f, ratio %.4f (Fresnel 2.745)\n", sky[0],
                 sky[1], sky[1] / sky[0]);
     EXPECT_NEAR(sky[1] / sky[0], 2.745, 0.05 * 2.745);
+}
+
+// Section 10.4's demonstrations run by name: `coastal cube` writes its scene file and cube mesh to
+// DIR/scene and renders the cube; both demonstrations refuse --full and --seed (they have one
+// setting) before writing anything. (What the shadow series shows is measured by `littoral
+// validate`'s box-shadows case, tests/pipelines/validate_test.cpp; the caustic by
+// tests/pipelines/dielectric_object_test.cpp.)
+TEST(CoastalRuns, Section104DemonstrationsRunByNameAndRefuseTheSiteOptions) {
+    const fs::path dir = scratchDir("coastal", "demonstrations");
+    for (const std::string& args : {std::string("shadows --full"), std::string("cube --seed 3")}) {
+        const auto r = runLittoral("-q coastal " + args + " --out " + (dir / "refused").string());
+        EXPECT_EQ(r.status, 1) << args << ": " << r.output;
+        EXPECT_NE(r.output.find("applies to the configurations A to J"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(dir / "refused")) << args;
+    }
+    const auto r = runLittoral("-q coastal cube --out " + (dir / "cube").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::is_regular_file(dir / "cube" / "scene" / "scene.yaml"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "cube" / "scene" / "cube.obj"));
+    EXPECT_GT(pngSize(dir / "cube" / "cube.png").first, 100u);
+    const auto check = runLittoral("-q check-scene " + (dir / "cube" / "scene" / "scene.yaml").string());
+    EXPECT_EQ(check.status, 0) << check.output;
 }

@@ -9,12 +9,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "pipelines/lib_image_quality.h"
 #include "tests/support/test_support.h"
 
+namespace fs = std::filesystem;
 namespace lp = littoral::pipelines;
 using littoral::testing_support::scratchDir;
 
@@ -156,6 +161,23 @@ TEST(ImageQuality, StudyReproducesChapter9) {
         EXPECT_GT(r.m.fwhm, 0.15) << r.radius;
         EXPECT_LT(r.m.fwhm, 0.25 + 0.25) << r.radius;
     }
+    // (d) The figures are drawn (matplotlib, pipelines/lib_plot.h), and the tail fractions they
+    // plot are shares: in [0, 1] or left out (null).
+    for (const char* f : {"snr_vs_radius.png", "fwhm_vs_radius.png", "tails_vs_radius.png", "snr_vs_density.png",
+                          "esf_d1.png", "lsf_d1.png"})
+        EXPECT_GT(littoral::testing_support::pngSize(fs::path(o.out) / f).first, 300u) << f;
+    const auto charts = nlohmann::json::parse(littoral::readTextFile(fs::path(o.out) / "charts.json"));
+    int tails = 0;
+    for (const auto& c : charts)
+        if (c["file"] == "tails_vs_radius.png")
+            for (const auto& s : c["series"])
+                for (const auto& y : s["y"])
+                    if (!y.is_null()) {
+                        ++tails;
+                        EXPECT_GE(y.get<double>(), 0.0);
+                        EXPECT_LE(y.get<double>(), 1.0);
+                    }
+    EXPECT_GE(tails, 1);
 }
 
 TEST(ImageQuality, LargerRadiusWidensTheEdgeTailsNotItsFwhm) {

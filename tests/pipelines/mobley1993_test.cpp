@@ -1,6 +1,6 @@
 // Mobley et al. (1993) canonical problems 1 (albedo 0.9 and 0.2) and 6, as the scene files in
 // data_synthetic/mobley1993/, run end to end with `littoral run` (the path estimator) and compared
-// cell by cell with the published model means (tests/support/mobley1993.h, reference-data.md).
+// cell by cell with the published model means (pipelines/reference/mobley1993.h, reference-data.md).
 //
 // A cell passes when its relative difference from the table mean is within
 //   max(3 s/mean, 3 se/mean) + half a unit of the table's third significant digit,
@@ -19,11 +19,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tests/support/mobley1993.h"
+#include "pipelines/reference/mobley1993.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
 using namespace littoral::testing_support;
+namespace mobley1993 = littoral::reference::mobley1993;
 
 namespace {
 

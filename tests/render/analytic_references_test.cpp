@@ -1,20 +1,20 @@
 // Self-tests of the analytic references the renderer's tests use: the Appendix A two-stream model
-// (tests/support/two_stream.h), the Mobley et al. (1993) table (tests/support/mobley1993.h) and
-// the Gordon and Ding (1992) self-shading error (tests/support/gordon_ding.h).
+// (tests/support/two_stream.h), the Mobley et al. (1993) table (pipelines/reference/mobley1993.h) and
+// the Gordon and Ding (1992) self-shading error (pipelines/reference/gordon_ding.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/units.h"
 #include "tests/support/chi_square.h"
-#include "tests/support/gordon_ding.h"
-#include "tests/support/mobley1993.h"
+#include "pipelines/reference/gordon_ding.h"
+#include "pipelines/reference/mobley1993.h"
 #include "tests/support/two_stream.h"
 
 using namespace littoral;
 namespace ts = littoral::testing_support::two_stream;
-namespace m93 = littoral::testing_support::mobley1993;
-namespace gd = littoral::testing_support::gordon_ding;
+namespace m93 = littoral::reference::mobley1993;
+namespace gd = littoral::reference::gordon_ding;
 namespace chi2 = littoral::testing_support::chi2;
 
 namespace {

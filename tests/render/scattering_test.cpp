@@ -11,7 +11,7 @@
 #include "render/probes.h"
 #include "render/renderer.h"
 #include "tests/render/render_test_scenes.h"
-#include "tests/support/gordon_ding.h"
+#include "pipelines/reference/gordon_ding.h"
 #include "tests/support/two_stream.h"
 
 namespace littoral::render {
@@ -267,7 +267,7 @@ TEST(PathEstimator, TwoStreamSlabOverLambertianBottom) {
 // Instrument self-shading (Gordon and Ding 1992): an opaque cylinder of radius R floating at the
 // surface shades the water below it, so a radiometer at the centre of its bottom face reads
 // Lu low by eps = 1 - exp(-k' a R), with k' = k''/tan(theta_w) for the sun (k''(Lu) = 2.23 at
-// theta_0 = 30 deg, tests/support/gordon_ding.h). Sun only (black sky), theta_0 = 30 deg, a = 0.5,
+// theta_0 = 30 deg, pipelines/reference/gordon_ding.h). Sun only (black sky), theta_0 = 30 deg, a = 0.5,
 // b = 1 m^-1 (Petzold), R = 0.1 m: a R = 0.05, predicted eps = 0.24. eps is measured as
 // 1 - Lu(with the cylinder) / Lu(without), each from the path estimator with its standard error.
 // Gordon and Ding fitted their k'' to Monte Carlo results with an accuracy they put at about
@@ -306,7 +306,7 @@ TEST(PathEstimator, InstrumentSelfShadingGordonDing) {
         s.sun.irradiance = Spectrum::constant(1.0);
         s.sky.radiance = Spectrum::constant(0.0);
         s.materials.push_back(blackMaterial("floor"));
-        addPeriodicSlab(s, water(a, b, testing_support::gordon_ding::kWaterIndex, {"petzold", {}}), 10.0, 30.0, "floor");
+        addPeriodicSlab(s, water(a, b, littoral::reference::gordon_ding::kWaterIndex, {"petzold", {}}), 10.0, 30.0, "floor");
         if (shaded) {
             s.materials.push_back(blackMaterial("instrument"));
             s.meshes.push_back(meshOf("instrument", cylinder(R, -0.001, 0.3, 96), {"instrument"}, "", "", true));
@@ -319,7 +319,7 @@ TEST(PathEstimator, InstrumentSelfShadingGordonDing) {
     const double ratio = shaded.mean[0] / open.mean[0];
     const double eps = 1 - ratio;
     const double seEps = ratio * std::hypot(shaded.stderr_[0] / shaded.mean[0], open.stderr_[0] / open.mean[0]);
-    const double pred = testing_support::gordon_ding::epsilonSun(testing_support::gordon_ding::Quantity::Lu, theta0, a, R);
+    const double pred = littoral::reference::gordon_ding::epsilonSun(littoral::reference::gordon_ding::Quantity::Lu, theta0, a, R);
     EXPECT_NEAR(eps, pred, 0.2 * pred + 3 * seEps);
     EXPECT_LT(seEps, 0.05 * pred);
     std::printf("[ self-shading ] Lu open %.5e +- %.1e, shaded %.5e +- %.1e: eps %.4f +- %.4f (Gordon & Ding %.4f)\n",

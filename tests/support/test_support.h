@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -122,6 +123,17 @@ inline std::vector<std::string> markdownBlocks(const std::filesystem::path& md, 
         }
     }
     return blocks;
+}
+
+// The width and height a PNG file's IHDR gives, or {0, 0} if `path` is not a PNG.
+inline std::pair<uint32_t, uint32_t> pngSize(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char h[24] = {};
+    if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return {0, 0};
+    const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (!std::equal(sig, sig + 8, h) || std::string(reinterpret_cast<char*>(h + 12), 4) != "IHDR") return {0, 0};
+    auto be = [&](int o) { return uint32_t(h[o]) << 24 | uint32_t(h[o + 1]) << 16 | uint32_t(h[o + 2]) << 8 | h[o + 3]; };
+    return {be(16), be(20)};
 }
 
 // The id a truth legend (NAME_legend.csv: id,material,...) gives the material `name`; -2 if absent.

@@ -16,7 +16,7 @@
 
 #include "core/units.h"
 
-namespace littoral::testing_support::gordon_ding {
+namespace littoral::reference::gordon_ding {
 
 enum class Quantity { Lu, Eu };
 
@@ -60,4 +60,4 @@ inline double epsilon(Quantity q, double theta0Deg, double absorption, double ra
     return (epsilonSun(q, theta0Deg, absorption, radius) + skyToSun * epsilonSky(q, absorption, radius)) / (1.0 + skyToSun);
 }
 
-}  // namespace littoral::testing_support::gordon_ding
+}  // namespace littoral::reference::gordon_ding

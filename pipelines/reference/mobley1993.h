@@ -17,7 +17,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace littoral::testing_support::mobley1993 {
+namespace littoral::reference::mobley1993 {
 
 struct Cell {
     double mean;       // model mean, W m^-2 nm^-1 (Ed, Eou) or W m^-2 sr^-1 nm^-1 (Lu)
@@ -71,4 +71,4 @@ inline double toleranceWithRounding(const Cell& cell, double runStderr) {
     return tolerance(cell, runStderr) + roundingHalfUnit(cell);
 }
 
-}  // namespace littoral::testing_support::mobley1993
+}  // namespace littoral::reference::mobley1993
