@@ -894,10 +894,22 @@ std::vector<ValidationCaseInfo> validationCases() {
     return v;
 }
 
+// An earlier validation into the same folder: its report, summary, cases/ and runs/ go first, so
+// that the folder never holds two runs' cases (the command holds the folder's lock).
+void removeEarlierValidation(const fs::path& out) {
+    std::error_code ec;
+    bool any = false;
+    for (const char* f : {"report.html", "summary.json"}) any = fs::remove(out / f, ec) || any;
+    for (const char* d : {"cases", "runs"})
+        if (fs::is_directory(out / d, ec)) any = fs::remove_all(out / d, ec) > 0 || any;
+    if (any) log::info("removed the report, summary, cases/ and runs/ of an earlier validation in {}", out.string());
+}
+
 ValidateOutcome runValidation(const ValidateOptions& o) {
     const std::vector<Case> all = suite();
     const std::vector<const Case*> sel = selectCases(all, o);
     const fs::path out(o.out);
+    removeEarlierValidation(out);
     Context ctx{out / "runs", o.quick, o.threads, {}};
     const double scale = o.quick ? 1.0 : 4.0;  // the full setting's cases take about 4x their quick cost
     double totalCost = 0, doneCost = 0;

@@ -74,13 +74,24 @@ TEST(Validate, UnknownCaseIsRefusedAndLeavesNothing) {
     EXPECT_FALSE(fs::exists(out));
 }
 
-// One named case runs alone, with the full setting's samples (here the cheapest: direct sun).
-TEST(Validate, OneCaseRunsAlone) {
+// One named case runs alone, with the full setting's samples (here the cheapest: direct sun). A
+// second validation into the same folder replaces the first: the folder never holds two runs' cases.
+TEST(Validate, OneCaseRunsAloneAndALaterRunReplacesIt) {
     const fs::path out = scratchDir("validate", "one");
     const CommandResult r = runLittoral("--quiet validate --out " + out.string() + " --case direct-sun");
     EXPECT_EQ(r.status, 0) << r.output;
-    const auto j = nlohmann::json::parse(littoral::readTextFile(out / "summary.json"));
+    auto j = nlohmann::json::parse(littoral::readTextFile(out / "summary.json"));
     ASSERT_EQ(j["cases"].size(), 1u);
     EXPECT_EQ(j["cases"][0]["name"], "direct-sun");
     EXPECT_FALSE(j["quick"].get<bool>());
+    EXPECT_TRUE(fs::is_directory(out / "runs" / "direct-sun"));
+
+    const CommandResult again = runLittoral("--quiet validate --out " + out.string() + " --case mobley-column");
+    EXPECT_EQ(again.status, 0) << again.output;
+    j = nlohmann::json::parse(littoral::readTextFile(out / "summary.json"));
+    ASSERT_EQ(j["cases"].size(), 1u);
+    EXPECT_EQ(j["cases"][0]["name"], "mobley-column");
+    EXPECT_FALSE(fs::exists(out / "cases" / "direct-sun"));
+    EXPECT_FALSE(fs::exists(out / "runs" / "direct-sun"));
+    EXPECT_TRUE(fs::is_directory(out / "cases" / "mobley-column"));
 }
