@@ -459,7 +459,7 @@ CaseResult selfShadingCase(Context& c) {
 //  - depth of contrast: c = 1 - Lu(edge) / Lu(open), Lu just under the surface 5 cm beyond each
 //    box's anti-sun edge against a probe 15 m up-sun of the boxes; each box's c must exceed the
 //    next deeper one's by 2 standard errors of the difference (single scattering predicts ratios
-//    exp(-c (1 + 1/cos theta_w) dd) between neighbours, 0.40-0.65 here);
+//    exp(-c (1 + 1/cos theta_w) dd) between neighbours, 0.42-0.65 here);
 //  - surface shadow: Ed 2 cm under the surface 0.25 m beyond the floating box (inside the 0.5 m
 //    shadow its freeboard casts at 45 deg) must miss at least 80 % of the direct sun's share of
 //    Ed, E_sun T(45 deg) / Ed(open) with T from Fresnel's equations; beside the 1.5 m box (submerged,
