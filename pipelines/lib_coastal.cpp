@@ -62,13 +62,19 @@ scenegen::SiteOptions siteFor(const CoastalConfiguration& c, const CoastalOption
     return so;
 }
 
-std::string runOne(const CoastalConfiguration& c, const CoastalOptions& o, const fs::path& out, bool photonMaps) {
+// `run` of `scene` into `out` with the command's threads, progress and preview.
+RunOptions runOptions(const CoastalOptions& o, const fs::path& scene, const fs::path& out) {
     RunOptions ro;
-    ro.scene = writeCoastalSite(o, out / "site", photonMaps).string();
+    ro.scene = scene.string();
     ro.out = out.string();
     ro.threads = o.threads;
     ro.progress = o.progress;
     ro.preview = o.preview;
+    return ro;
+}
+
+std::string runOne(const CoastalConfiguration& c, const CoastalOptions& o, const fs::path& out, bool photonMaps) {
+    const RunOptions ro = runOptions(o, writeCoastalSite(o, out / "site", photonMaps), out);
     return fmt::format("configuration {} ({}{}), {} settings -> {}\n", c.id, c.description,
                        photonMaps ? "" : ", without photon maps", o.full ? "full" : "quick", out.string()) +
            runScene(ro);
@@ -141,13 +147,8 @@ std::string runDemonstration(const CoastalDemonstration& d, const CoastalOptions
     writeTextFileAtomic(sceneDir / "scene.yaml", yaml);
     writeTextFileAtomic(sceneDir / mesh, boxObj(d.sizeX, d.sizeY, d.height));
     publishStagedOutputs();  // read back by the build below
-    RunOptions ro;
-    ro.scene = (sceneDir / "scene.yaml").string();
-    ro.out = out.string();
-    ro.threads = o.threads;
-    ro.progress = o.progress;
-    ro.preview = o.preview;
-    return fmt::format("{}: {} -> {}\n", d.name, d.description, out.string()) + runScene(ro);
+    return fmt::format("{}: {} -> {}\n", d.name, d.description, out.string()) +
+           runScene(runOptions(o, sceneDir / "scene.yaml", out));
 }
 
 std::string runCoastal(const CoastalOptions& o) {

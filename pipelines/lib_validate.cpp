@@ -24,6 +24,7 @@
 #include "pipelines/reference/gordon_ding.h"
 #include "pipelines/reference/mobley1993.h"
 #include "scenegen/scene_file.h"
+#include "scenegen/yaml_reader.h"
 
 namespace littoral::pipelines {
 
@@ -108,15 +109,8 @@ const ProbeTable& runProbes(Context& c, const std::string& run, const std::strin
 
 // The column solver on an embedded scene at `depths` with n streams per half: {depth -> row}.
 std::map<double, column::DepthResult> solveEmbedded(const std::string& scene, const std::vector<double>& depths, int streams) {
-    const fs::path tmp = fs::temp_directory_path() / fmt::format("littoral-validate-{}-{}.yaml", scene, ::getpid());
-    {
-        const OutputSetPause pause;
-        writeTextFileAtomic(tmp, embeddedScene(scene));
-    }
-    const scenegen::SceneSpec spec = scenegen::loadSceneFile(tmp.string());
-    forgetInput(tmp);  // removed now: its inode may come back as a later output
-    std::error_code ec;
-    fs::remove(tmp, ec);
+    const std::string file = "data_synthetic/mobley1993/" + scene + ".yaml";  // names it in messages; it reads no files
+    const scenegen::SceneSpec spec = scenegen::parseScene(scenegen::YamlNode::loadString(embeddedScene(scene), file), file);
     ColumnOptions o;
     o.depths = depths;
     o.streams = streams;
@@ -213,13 +207,10 @@ std::string flatSceneYaml(const FlatScene& f) {
 // ---------------------------------------------------------------------------------------------
 // Analytic: the unscattered sun in purely absorbing water under a flat surface.
 // Ed(z) = E cos(theta0) T(theta0) exp(-a z / cos(theta_w)) and Eod = Ed / cos(theta_w), with T the
-// Fresnel transmittance of unpolarised light (worked here from the amplitude coefficients).
+// Fresnel transmittance of unpolarised light, from the column solver's Fresnel (column/, which
+// shares no code with the renderer it checks here).
 
-double fresnelTransmittance(double theta0, double n) {
-    const double ci = std::cos(theta0), st = std::sin(theta0) / n, ct = std::sqrt(1 - st * st);
-    const double rs = (ci - n * ct) / (ci + n * ct), rp = (n * ci - ct) / (n * ci + ct);
-    return 1 - 0.5 * (rs * rs + rp * rp);
-}
+double fresnelTransmittance(double theta0, double n) { return 1 - column::fresnelReflectance(std::cos(theta0), 1.0, n); }
 
 std::string directSunScene(double zenithDeg, double a, const std::vector<double>& depths, int samples) {
     FlatScene f;
