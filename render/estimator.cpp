@@ -43,6 +43,12 @@ ParamSpec probeSamplesSetting() {
 ParamSpec probeBatchesSetting() {
     return {"probe_batches", "", ParamType::Integer, 16, 2, 4096, "", "independent batches for the probes' standard errors"};
 }
+// The path estimator's forward irradiance tallies (render/forward_tally.h).
+ParamSpec probePhotonsSetting() {
+    return {"probe_photons", "", ParamType::Integer, 0, 0, 1e12, "",
+            "photons traced from the sun and sky for the forward tallies of Ed, Eu, Eod and Eou at probes in "
+            "scattering water of a horizontally invariant scene (docs/rendering.md); 0 (the default) = backward paths only"};
+}
 // Up to 100 m: a longer step would take one in-scatter estimate over more water than any scene
 // holds (the range scene files have always had; scene.json allowed 1e4 until both read this one).
 ParamSpec marchStepSetting() {
@@ -271,6 +277,10 @@ void readPathSettings(const ir::SceneIR& ir, SettingsReader& r, RenderConfig* c)
     c->maxBounces = r.get<int>("max_bounces");
     c->maxSpecularDepth = r.get<int>("max_specular_depth");
     c->marchStep = r.get<double>("march_step_m");
+    c->probePhotons = static_cast<uint64_t>(r.get<int64_t>("probe_photons"));
+    if (c->probePhotons > 0 && c->probePhotons < static_cast<uint64_t>(c->probeBatches))
+        r.fail("probe_photons", fmt::format("{} photons cannot form render.probe_batches = {} batches", c->probePhotons,
+                                            c->probeBatches));
     r.finish("");
     for (size_t i = 0; i < ir.materials.size(); ++i) {
         const ir::Material& m = ir.materials[i];

@@ -49,6 +49,7 @@ struct RenderConfig {
     int hemisphereSamples = 64;  // dirsig: rays at the first diffuse vertex
     int probeSamples = 4096;     // sample paths per probe quantity
     int probeBatches = 16;       // independent batches (standard errors from their spread)
+    uint64_t probePhotons = 0;   // path: photons of the forward irradiance tallies (render/forward_tally.h); 0 = off
     double marchStep = 0.1;      // path: spacing of sun estimates; dirsig MediumPM: gather step along rays (m)
     // Per-pixel convergence: > 0, each pixel takes the samples its pilot (samples_per_pixel) says it
     // needs for this relative standard error, up to maxSamplesPerPixel (render/renderer.cpp).

@@ -15,6 +15,7 @@ ParamSpec maxBouncesSetting(double defaultValue);
 ParamSpec maxSpecularDepthSetting(double defaultValue);
 ParamSpec probeSamplesSetting();
 ParamSpec probeBatchesSetting();
+ParamSpec probePhotonsSetting();
 ParamSpec marchStepSetting();
 ParamSpec targetRelativeErrorSetting();
 ParamSpec maxSamplesPerPixelSetting();

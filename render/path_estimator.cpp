@@ -426,7 +426,7 @@ const KindInfo& pathEstimatorKind() {
                                "against",
                                {maxBouncesSetting(1000), maxSpecularDepthSetting(1000), probeSamplesSetting(),
                                 probeBatchesSetting(), targetRelativeErrorSetting(), maxSamplesPerPixelSetting(),
-                                marchStepSetting()}};
+                                marchStepSetting(), probePhotonsSetting()}};
     return kind;
 }
 

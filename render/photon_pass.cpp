@@ -33,6 +33,8 @@ struct ChunkResult {
     std::vector<uint64_t> emitted, stored;
 };
 
+}  // namespace
+
 // One photon's walk through the scene: free flights and phase-function sampling in scattering
 // media, the shared interaction step at interfaces and walls (importance transport), and diffuse
 // vertices that store into the surface map and continue by cosine sampling.
@@ -42,26 +44,33 @@ public:
         : scene_(scene), g_(g), st_(st), src_(PhotonSource::of(scene, g)),
           step_(scene, g, TransportMode::Importance, nullptr, st.maxSpecularDepth, InterfaceDraws{true, false}) {}
     const PhotonSource& source() const { return src_; }
-    // Photon `index`, started by `importance` (nullptr: uniformly).
-    void trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance) const;
+    // Photon `index`, started by `importance` (nullptr: uniformly); `observer` (optional) is told of
+    // its flights.
+    void trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance,
+               PhotonObserver* observer = nullptr) const;
 
 private:
-    // Russian roulette on the photon's power (survivors are scaled up by 1/q).
-    static bool roulette(Spec& w, RandomStream& rng) {
-        const double q = std::min(1.0, w.maxValue());
-        if (rng.uniform() >= q || !(q > 0)) return false;
+    // Russian roulette on the photon's power, as a weight window: a photon whose largest band
+    // power is below st_.rouletteBelow survives with probability max / rouletteBelow and is scaled
+    // up by its inverse (unbiased). One number is drawn always, so that the streams do not depend
+    // on the threshold's outcome.
+    bool roulette(Spec& w, RandomStream& rng) const {
+        const double u = rng.uniform(), m = w.maxValue();
+        if (m >= st_.rouletteBelow) return true;
+        const double q = m / st_.rouletteBelow;
+        if (u >= q || !(q > 0)) return false;
         w *= 1.0 / q;
         return true;
     }
     // A collision in a scattering medium: stores the event (MediumPM media) and turns the photon.
     // False if the photon ends.
     bool scatter(Ray& ray, const FreeFlight& ff, int medium, int& events, Spec& w, RandomStream& rng,
-                 ChunkResult& out) const;
+                 ChunkResult& out, PhotonObserver* observer) const;
     // A diffuse vertex: stores the photon (SurfacePM materials) and reflects it. False if it ends.
     bool reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Spec& w, RandomStream& rng,
                         ChunkResult& out) const;
     // The photon's walk from its emission until it ends.
-    void walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) const;
+    void walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const;
 
     const Scene& scene_;
     BandGroup g_;
@@ -71,9 +80,13 @@ private:
 };
 
 bool PhotonTracer::scatter(Ray& ray, const FreeFlight& ff, int medium, int& events, Spec& w, RandomStream& rng,
-                           ChunkResult& out) const {
+                           ChunkResult& out, PhotonObserver* observer) const {
     static const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
-    if (w.isBlack() || ++events > st_.maxBounces) return false;
+    if (w.isBlack()) return false;
+    if (++events > st_.maxBounces) {
+        if (observer) observer->cut(w);
+        return false;
+    }
     const Medium& md = scene_.media()[static_cast<size_t>(medium)];
     const Point3 x = ray.at(ff.t);
     Spec pw;
@@ -103,18 +116,19 @@ bool PhotonTracer::reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Sp
     return true;
 }
 
-void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance) const {
+void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImportance* importance,
+                         PhotonObserver* observer) const {
     RandomStream rng(st_.seed, kPhotonPassBase + st_.pass, index);
     const EmittedPhoton e = emitPhoton(scene_, src_, rng, importance);
     const size_t before = out.surface.size() + out.volume.size();
-    walk(e.ray, e.power, rng, out);
+    walk(e.ray, e.power, rng, out, observer);
     if (out.emitted.empty()) return;
     const size_t k = static_cast<size_t>((e.fromSun ? 0 : EmissionImportance::N) + e.cell);
     ++out.emitted[k];
     if (out.surface.size() + out.volume.size() > before) ++out.stored[k];
 }
 
-void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) const {
+void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const {
     int medium = 0, events = 0, specular = 0, wraps = 0;
     for (;;) {
         SurfaceHit h;
@@ -124,18 +138,21 @@ void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) co
             // The free flight first, then the geometry only up to it (Scene::flightToSurface).
             const double uBand = rng.uniform(), uDist = rng.uniform();
             const FreeFlight ff = scene_.flightToSurface(ray, medium, g_, uBand, uDist, &h, &hit);
+            if (observer) observer->flight(ray, ff.scattered ? ff.t : hit ? h.t : ir::kInfinity, medium, w, true);
             w *= ff.weight;
             if (ff.scattered) {
-                if (!scatter(ray, ff, medium, events, w, rng, out)) return;
+                if (!scatter(ray, ff, medium, events, w, rng, out, observer)) return;
                 continue;
             }
             if (w.isBlack()) return;
         } else if (md.attenuating()) {
             hit = scene_.geometry().intersect(ray, &h);
             if (!hit) return;
+            if (observer) observer->flight(ray, h.t, medium, w, false);
             w *= md.transmittance(ray, h.t, g_);
         } else {
             hit = scene_.geometry().intersect(ray, &h);
+            if (observer) observer->flight(ray, hit ? h.t : ir::kInfinity, medium, w, false);
         }
         if (!hit) return;
         if (scene_.isPeriodicWall(h)) {
@@ -165,7 +182,19 @@ void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out) co
     }
 }
 
-}  // namespace
+ObservedPhotons::ObservedPhotons(const Scene& scene, BandGroup g, const PhotonPassSettings& settings)
+    : settings_(settings) {
+    settings_.surfaceTarget = settings_.volumeTarget = 0;
+    settings_.surfaceMaterial.assign(scene.materials().size(), false);
+    settings_.volumeMedium.assign(scene.media().size(), false);
+    tracer_ = std::make_unique<PhotonTracer>(scene, g, settings_);
+}
+ObservedPhotons::~ObservedPhotons() = default;
+const PhotonSource& ObservedPhotons::source() const { return tracer_->source(); }
+void ObservedPhotons::trace(uint64_t index, PhotonObserver& observer) const {
+    ChunkResult none;
+    tracer_->trace(index, none, nullptr, &observer);
+}
 
 PhotonSource PhotonSource::of(const Scene& scene, BandGroup g) {
     PhotonSource s;

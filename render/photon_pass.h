@@ -41,6 +41,7 @@
 //    chunk boundaries, so the maps are identical for any thread count.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/rng.h"
@@ -59,6 +60,10 @@ struct PhotonPassSettings {
     bool importance = true;         // importance emission (above)
     uint64_t seed = 1, pass = 0;
     uint64_t maxEmitted = 0;        // 0: 1000 x the larger target, at least 10^7
+    // Russian roulette (absorption) as a weight window: a photon whose largest band power falls
+    // below this survives with probability power / rouletteBelow. 1 keeps every stored photon near
+    // the same flux (the maps); a lower window lets weighted photons tally longer (ObservedPhotons).
+    double rouletteBelow = 1.0;
     double cellSize = 0.4;          // grid cell of the built maps (the search radius)
     int threads = 0;
     bool progress = true;
@@ -109,6 +114,36 @@ struct EmissionImportance {
 // Draws five numbers from rng; with `importance`, the start cell from its probabilities.
 EmittedPhoton emitPhoton(const Scene& scene, const PhotonSource& source, RandomStream& rng,
                          const EmissionImportance* importance = nullptr);
+
+// Told of a photon's path as it is traced (the forward probe tallies, render/forward_tally.h).
+class PhotonObserver {
+public:
+    virtual ~PhotonObserver() = default;
+    // The photon flies along ray.o + t ray.d, t in [0, tEnd) (tEnd may be infinite), in `medium`
+    // with power w per band at t = 0. `sampled`: the flight's length was drawn by free-flight
+    // sampling with a hero band chosen uniformly (Medium::sampleFreeFlight), so at distance t the
+    // photon's power is w_b T_b(t) / mean_i T_i(t); otherwise the medium's transmittance
+    // attenuates it deterministically, w_b T_b(t).
+    virtual void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled) = 0;
+    // The photon reached PhotonPassSettings::maxBounces events with power w left and was ended.
+    virtual void cut(const Spec& w) { (void)w; }
+};
+
+class PhotonTracer;
+// Photons traced from the sun and sky one by one, uniformly emitted and storing nothing, each
+// path reported to an observer. Photon k draws from RandomStream(seed, photon-pass base + pass, k),
+// so any split of the indices gives the same paths.
+class ObservedPhotons {
+public:
+    ObservedPhotons(const Scene& scene, BandGroup g, const PhotonPassSettings& settings);
+    ~ObservedPhotons();
+    const PhotonSource& source() const;
+    void trace(uint64_t index, PhotonObserver& observer) const;
+
+private:
+    PhotonPassSettings settings_;
+    std::unique_ptr<PhotonTracer> tracer_;
+};
 
 // Traces the photons of one band group. Warns if the emission cap is reached before a map is
 // full (it then holds what was stored).

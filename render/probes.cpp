@@ -18,6 +18,7 @@
 #include "core/rng.h"
 #include "core/units.h"
 #include "render/distributed.h"
+#include "render/forward_tally.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -163,31 +164,6 @@ ProbeValue emptyValue(const std::string& probe, const std::string& quantity, Qua
     return v;
 }
 
-// The mean of the batch means and its standard error (their spread), per band of g. With
-// `denominators` (Rrs): each batch's value is the ratio of its sums (the ratio of its means; its
-// bias, O(1/samples per batch), is far below the spread).
-void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, int perBatch, BandGroup g,
-                     ProbeValue* v, const std::vector<Spec>* denominators = nullptr) {
-    for (int b = 0; b < g.count; ++b) {
-        double sum = 0, sum2 = 0;
-        for (int batch = 0; batch < B; ++batch) {
-            double s = 0, d = 0;
-            for (int c = 0; c < chunksPerBatch; ++c) {
-                const size_t k = static_cast<size_t>(batch) * chunksPerBatch + c;
-                s += chunkSums[k][b];
-                if (denominators) d += (*denominators)[k][b];
-            }
-            const double m = denominators ? (d > 0 ? s / d : 0.0) : s / perBatch;
-            sum += m;
-            sum2 += m * m;
-        }
-        const double mean = sum / B;
-        const double var = std::max(0.0, (sum2 - B * mean * mean) / (B - 1));
-        v->mean[g.begin + b] = mean;
-        v->stderr_[g.begin + b] = std::sqrt(var / B);
-    }
-}
-
 // How a probe quantity's samples are cut: B batches of perBatch samples, each in chunks of at most
 // `chunk` samples, drawn from streams (seed, stream, sample index).
 struct ProbeChunks {
@@ -241,6 +217,28 @@ void sumProbeChunks(const ProbeSampler& sampler, const ProbeChunks& plan, BandGr
 
 }  // namespace
 
+void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, double perBatch, BandGroup g,
+                     ProbeValue* v, const std::vector<Spec>* denominators) {
+    for (int b = 0; b < g.count; ++b) {
+        double sum = 0, sum2 = 0;
+        for (int batch = 0; batch < B; ++batch) {
+            double s = 0, d = 0;
+            for (int c = 0; c < chunksPerBatch; ++c) {
+                const size_t k = static_cast<size_t>(batch) * chunksPerBatch + c;
+                s += chunkSums[k][b];
+                if (denominators) d += (*denominators)[k][b];
+            }
+            const double m = denominators ? (d > 0 ? s / d : 0.0) : s / perBatch;
+            sum += m;
+            sum2 += m * m;
+        }
+        const double mean = sum / B;
+        const double var = std::max(0.0, (sum2 - B * mean * mean) / (B - 1));
+        v->mean[g.begin + b] = mean;
+        v->stderr_[g.begin + b] = std::sqrt(var / B);
+    }
+}
+
 void registerProbeQuantityKinds(KindRegistry<KindInfo>& registry) {
     for (const QuantityKind& k : quantityKinds().kinds()) registry.add(k.info);
 }
@@ -268,7 +266,7 @@ void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& pr
 }
 
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
-                                      int probeIndex, const RenderOptions& opts) {
+                                      int probeIndex, const RenderOptions& opts, const ForwardTallies* forward) {
     const std::string who = fmt::format("probe '{}'", probe.name);
     const RenderConfig& cfg = estimators.config();
     checkProbe(scene, cfg, probe);
@@ -293,6 +291,10 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     std::vector<ProbeValue> out;
     for (size_t qi = 0; qi < probe.quantities.size(); ++qi) {
         const Quantity q = parseQuantity(probe.quantities[qi], who);
+        if (const ProbeValue* f = forward ? forward->find(probeIndex, probe.quantities[qi]) : nullptr) {
+            out.push_back(*f);
+            continue;
+        }
         ProbeValue v = emptyValue(probe.name, probe.quantities[qi], q, nb, perBatch * B, B);
         v.position = probe.position;
         v.medium = probe.medium.empty() ? "air" : probe.medium;
@@ -324,6 +326,17 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     return out;
 }
 
+std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
+    const ForwardTallies forward(scene, estimators, opts);
+    std::vector<ProbeValue> out;
+    const auto& probes = scene.ir().probes;
+    for (size_t i = 0; i < probes.size(); ++i) {
+        auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
+        out.insert(out.end(), v.begin(), v.end());
+    }
+    return out;
+}
+
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts) {
     const EstimatorSet estimators(scene);
@@ -331,12 +344,12 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe
 }
 
 std::string probesCsv(const std::vector<ProbeValue>& values, const std::vector<Band>& bands) {
-    std::string s = "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches\n";
+    std::string s = "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches,method\n";
     for (const ProbeValue& v : values)
         for (size_t b = 0; b < bands.size(); ++b)
-            s += fmt::format("{},{},{},{},{:.9g},{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{}\n", v.probe, v.quantity,
+            s += fmt::format("{},{},{},{},{:.9g},{:.9g},{},{:.9g},{:.9g},{:.9g},{},{},{},{}\n", v.probe, v.quantity,
                              bands[b].lo, bands[b].hi, v.mean[b], v.stderr_[b], v.units, v.position.x, v.position.y,
-                             v.position.z, v.medium, v.samples, v.batches);
+                             v.position.z, v.medium, v.samples, v.batches, v.method);
     return s;
 }
 
@@ -354,7 +367,8 @@ std::string probesJson(const std::vector<ProbeValue>& values, const std::vector<
                                {"value", v.mean},
                                {"stderr", v.stderr_},
                                {"samples", v.samples},
-                               {"batches", v.batches}});
+                               {"batches", v.batches},
+                               {"method", v.method}});
     return j.dump(2) + "\n";
 }
 

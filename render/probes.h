@@ -19,6 +19,7 @@
 // means are independent, so this is honest whatever the stratification does to single samples
 // (s / sqrt(N) over stratified samples would overstate the error, over correlated ones understate
 // it). Results are identical for any thread count.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,12 @@ struct ProbeValue {
     Point3 position;                  // the probe's position, m
     std::string medium;               // the medium it reads in ("air" or a medium name)
     std::vector<double> mean, stderr_;  // per render band
-    int samples = 0, batches = 0;
+    int64_t samples = 0;                // sample paths, or photons for the forward tallies
+    int batches = 0;
+    std::string method = "backward";    // "backward" (paths from the probe) or "forward" (render/forward_tally.h)
 };
+
+class ForwardTallies;
 
 // The checks evaluateProbe makes before sampling: the probe's medium exists, the probe is not
 // inside an opaque object, and its samples form render.probe_batches batches. InputError.
@@ -45,11 +50,23 @@ void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& pr
 
 // Evaluates every quantity of one probe. InputError for an unknown quantity, an unknown medium or
 // a probe inside a closed opaque object.
+// With `forward`, the quantities it answers are taken from it (render/forward_tally.h).
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
-                                      int probeIndex, const RenderOptions& opts = {});
+                                      int probeIndex, const RenderOptions& opts = {},
+                                      const ForwardTallies* forward = nullptr);
+// Every probe of the scene, in order: the forward tallies where they apply, backward paths for the
+// rest.
+std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts = {});
 // Convenience: builds the estimators of `scene` for this one call.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts = {});
+
+// The mean of B independent batch means and its standard error (their spread / sqrt(B)), per
+// band of g, into v->mean / v->stderr_ (sized to every render band). chunkSums holds B x
+// chunksPerBatch sums in batch order; each batch mean is its chunks' sum over perBatch. With
+// `denominators` (Rrs): each batch's value is the ratio of its sums.
+void batchStatistics(const std::vector<Spec>& chunkSums, int B, int chunksPerBatch, double perBatch, BandGroup g,
+                     ProbeValue* v, const std::vector<Spec>* denominators = nullptr);
 
 // Warns once (naming the worst) when probe values' standard errors exceed half of their values:
 // a rare path carries most of such a value (docs/rendering.md, Known limits). Returns how many.

@@ -15,6 +15,8 @@
 #include "core/render_budget.h"
 #include "core/suggest.h"
 #include "render/estimator.h"
+#include "render/forward_tally.h"
+#include "render/probes.h"
 #include "render/image_output.h"
 #include "render/progressive_checkpoint.h"
 #include "render/tile_checkpoint.h"
@@ -120,6 +122,22 @@ RenderOptions renderOptions(const ir::SceneIR& ir, const RenderJobOptions& opts)
     return ro;
 }
 
+// render.probe_photons set explicitly asks for the forward tallies, which hold only in a
+// horizontally invariant scene: refused elsewhere (the default just falls back to backward paths).
+void checkProbePhotons(const ir::SceneIR& ir, const RenderConfig& config) {
+    const auto it = ir.render.locations.find("probe_photons");
+    if (config.estimator != ir::Estimator::Path || config.probePhotons == 0 || !ir.render.settings.has("probe_photons"))
+        return;
+    const std::string why = horizontalInvarianceProblem(ir);
+    if (why.empty()) return;
+    const std::string msg = fmt::format("render.probe_photons: the forward irradiance tallies need a horizontally "
+                                        "invariant scene, and here {}; remove probe_photons (the probes then use "
+                                        "backward paths) or set it to 0",
+                                        why);
+    if (it != ir.render.locations.end()) throw InputError(it->second, msg);
+    throw InputError(msg);
+}
+
 // The checks that need the scene but no radiance, before any rendering time is spent: the
 // settings, every selected sensor's view (its truth image) and every probe's plan.
 RenderConfig checkBeforeRendering(const ir::SceneIR& ir, const Scene& scene, const std::vector<const ir::Sensor*>& sensors,
@@ -128,6 +146,7 @@ RenderConfig checkBeforeRendering(const ir::SceneIR& ir, const Scene& scene, con
     for (const ir::Sensor* s : sensors) (void)renderTruth(scene, *s, ro);
     if (opts.sensor.empty())
         for (const ir::Probe& p : ir.probes) checkProbe(scene, config, p);
+    checkProbePhotons(ir, config);
     return config;
 }
 
@@ -364,11 +383,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
             images.push_back(renderSensor(scene, estimators, *sensors[k], ro));
         }
         std::vector<ProbeValue> probes;
-        if (probesToo)
-            for (size_t i = 0; i < ir.probes.size(); ++i) {
-                auto v = evaluateProbe(scene, estimators, ir.probes[i], static_cast<int>(i), ro);
-                probes.insert(probes.end(), v.begin(), v.end());
-            }
+        if (probesToo) probes = evaluateProbes(scene, estimators, ro);
         accumulate(state, images, probes);
         if (passes > 1) {
             log::info("progressive pass {} of {} done", pass, passes);

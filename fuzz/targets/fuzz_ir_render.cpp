@@ -90,6 +90,8 @@ void capForATinyRender(ir::SceneIR& s) {
     capInteger(r, "max_bounces", kMaxBounces, true);
     capInteger(r, "max_specular_depth", kMaxSpecularDepth, true);
     if (dirsig) capInteger(r, "hemisphere_samples", kMaxHemisphereSamples, true);
+    // The path estimator's forward probe tallies (default 10^6 photons in a column scene).
+    if (!dirsig) capInteger(r, "probe_photons", kMaxPhotons, true);
     // Read only with a photon-map solver: lowered when set, never added, except photon_max_bounces
     // (default 200) when photons are set (read with them, or the photons' own key is refused as unread).
     const bool photons = r.settings.has("surface_photons") || r.settings.has("volume_photons");

@@ -77,16 +77,17 @@ TEST(ProbeArrays, ProfileAndGridReadBeerLambertAtTheirPositions) {
     std::ifstream csv(dir / "out" / "probes.csv");
     std::string line;
     std::getline(csv, line);
-    ASSERT_EQ(line, "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches");
+    ASSERT_EQ(line, "probe,quantity,band_lo_um,band_hi_um,value,stderr,units,x_m,y_m,z_m,medium,samples,batches,method");
     std::map<std::string, std::vector<double>> rows;  // name -> x, y, z
     while (std::getline(csv, line)) {
         const auto c = splitCsv(line);
-        ASSERT_EQ(c.size(), 13u) << line;
+        ASSERT_EQ(c.size(), 14u) << line;
         const double value = std::stod(c[4]), se = std::stod(c[5]), z = std::stod(c[9]);
         const double predicted = littoral::testing_support::refractedSunEd(1000, 30, 1.34, 0.388, -z);
         EXPECT_NEAR(value, predicted, 4 * se + 1e-9) << line;
         EXPECT_EQ(c[10], "water") << line;
         EXPECT_EQ(c[11], "256") << line;
+        EXPECT_EQ(c[13], "backward") << line;  // the water does not scatter: no forward tallies
         rows[c[0]] = {std::stod(c[7]), std::stod(c[8]), z};
     }
     ASSERT_EQ(rows.size(), 11u);

@@ -124,7 +124,7 @@ TEST(SinusoidCausticsRender, ProbeTransectPeaksWhereTheLandingModelPutsThemWitho
             std::vector<std::string> c;
             std::stringstream ss(line);
             for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
-            ASSERT_EQ(c.size(), 13u) << line;
+            ASSERT_EQ(c.size(), 14u) << line;
             xs.push_back(std::stod(c[7]));
             ed.push_back(std::stod(c[4]));
         }

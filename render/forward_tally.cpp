@@ -1,0 +1,303 @@
+#include "render/forward_tally.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/log.h"
+#include "core/progress.h"
+#include "render/distributed.h"
+#include "render/photon_pass.h"
+
+namespace littoral::render {
+
+namespace {
+
+// Random-stream passes of the forward tallies: far from the photon maps' (pass x 64 + band).
+constexpr uint64_t kForwardPassBase = 1ull << 20;
+constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in chunk order)
+// Weight window of the tallies' roulette: photons lose power by the albedo at each collision and
+// play roulette only below a quarter, so that each one crosses the deep planes with its weight
+// instead of ending early (survival biasing; unbiased either way).
+constexpr double kRouletteBelow = 0.25;
+
+enum Tally { kEd, kEu, kEod, kEou, kTallies };
+
+// A crossing at direction cosine mu adds w / |mu| to the scalar irradiance; the second moment of
+// that is log-divergent at grazing angles (Int L / mu dmu), and one grazing photon can carry a
+// batch. Below kGrazingMu the weight is 2 / kGrazingMu instead (the usual grazing correction of
+// crossing tallies): the expected value is the same when L is constant over |mu| < kGrazingMu, and
+// for radiance L0 + L1 mu there the difference is 2 pi L1 kGrazingMu^2 / 6, at most 1.7e-5 of
+// Eo = 2 pi <L> when |L1| <= <L> (docs/rendering.md, "Forward irradiance tallies").
+constexpr double kGrazingMu = 0.01;
+
+struct Level {
+    int medium;
+    double z;
+};
+
+// Sums the crossings of one chunk's photons through the probe planes, per level, tally and band.
+class CrossingTally final : public PhotonObserver {
+public:
+    CrossingTally(const Scene& scene, BandGroup g, const std::vector<Level>& levels)
+        : scene_(scene), g_(g), levels_(levels), sums_(levels.size() * kTallies, Spec(g.count)) {}
+
+    void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled) override {
+        const double dz = ray.d.z;
+        if (dz == 0) return;
+        const double z0 = ray.o.z, z1 = std::isfinite(tEnd) ? ray.o.z + tEnd * dz : (dz > 0 ? ir::kInfinity : -ir::kInfinity);
+        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+        for (size_t k = 0; k < levels_.size(); ++k) {
+            const Level& l = levels_[k];
+            if (l.medium != medium) continue;
+            // Half-open, so that a photon turning exactly on a plane is counted once.
+            const bool crosses = dz < 0 ? (z1 <= l.z && l.z < z0) : (z0 < l.z && l.z <= z1);
+            if (!crosses) continue;
+            const double t = (l.z - z0) / dz;
+            Spec wt = w;
+            if (md.attenuating() && (!sampled || g_.count > 1)) {
+                const Spec T = md.transmittance(ray, t, g_);
+                if (!sampled) wt *= T;
+                else {
+                    double mean = 0;
+                    for (int i = 0; i < g_.count; ++i) mean += T[i];
+                    mean /= g_.count;
+                    if (!(mean > 0)) continue;
+                    wt *= T * (1.0 / mean);
+                }
+            }
+            const size_t base = k * kTallies;
+            const double inv = std::abs(dz) >= kGrazingMu ? 1.0 / std::abs(dz) : 2.0 / kGrazingMu;
+            sums_[base + (dz < 0 ? kEd : kEu)] += wt;
+            sums_[base + (dz < 0 ? kEod : kEou)] += wt * inv;
+        }
+    }
+    void cut(const Spec& w) override {
+        ++cuts_;
+        (void)w;
+    }
+    const std::vector<Spec>& sums() const { return sums_; }
+    uint64_t cuts() const { return cuts_; }
+
+private:
+    const Scene& scene_;
+    BandGroup g_;
+    const std::vector<Level>& levels_;
+    std::vector<Spec> sums_;
+    uint64_t cuts_ = 0;
+};
+
+int tallyOf(const std::string& q) {
+    if (q == "Ed") return kEd;
+    if (q == "Eu") return kEu;
+    if (q == "Eod") return kEod;
+    if (q == "Eou") return kEou;
+    return -1;
+}
+
+// A horizontal face's plane, material and media: the faces of one level together must cover the
+// domain once.
+struct LevelKey {
+    double z;
+    std::string material, inside, outside;
+    bool operator<(const LevelKey& o) const {
+        return std::tie(z, material, inside, outside) < std::tie(o.z, o.material, o.inside, o.outside);
+    }
+};
+
+// Why one mesh breaks horizontal invariance (""), adding its horizontal faces' areas per level.
+std::string meshProblem(const ir::SceneIR& ir, const ir::Mesh& mesh, std::map<LevelKey, double>* levels) {
+    const TriMesh& m = mesh.data;
+    for (size_t f = 0; f < m.numTriangles(); ++f) {
+        const size_t slot = m.materialOf(f);
+        const std::string name = slot < mesh.materials.size() ? mesh.materials[slot] : std::string();
+        const ir::Material* mat = ir.findMaterial(name);
+        if (!mat) return fmt::format("mesh '{}' face {} has no material", mesh.name, f);
+        if (mat->type == ir::Material::Type::Periodic) continue;
+        if (mat->type == ir::Material::Type::Textured || mat->type == ir::Material::Type::Classified)
+            return fmt::format("mesh '{}' uses material '{}', which varies across the plane", mesh.name, name);
+        const Vec3 n = m.faceNormalArea(f);
+        const double len = length(n);
+        if (!(len > 0)) continue;  // degenerate: no area
+        const auto& tri = m.triangles[f];
+        const double z = m.positions[tri[0]].z;
+        if (std::abs(n.x) + std::abs(n.y) > 1e-9 * len || std::abs(m.positions[tri[1]].z - z) > 1e-9 ||
+            std::abs(m.positions[tri[2]].z - z) > 1e-9)
+            return fmt::format("mesh '{}' face {} is not horizontal", mesh.name, f);
+        (*levels)[LevelKey{z, name, mesh.inside, mesh.outside}] += 0.5 * len;
+    }
+    return "";
+}
+
+}  // namespace
+
+std::string horizontalInvarianceProblem(const ir::SceneIR& ir) {
+    if (!ir.domain.periodic) return "the domain is not periodic (water.horizontal: periodic)";
+    if (!ir.instances.empty()) return fmt::format("the scene places {} mesh instance(s) (objects)", ir.instances.size());
+    const double area = (ir.domain.x1 - ir.domain.x0) * (ir.domain.y1 - ir.domain.y0);
+    std::map<LevelKey, double> levels;
+    for (const ir::Mesh& mesh : ir.meshes) {
+        const std::string p = meshProblem(ir, mesh, &levels);
+        if (!p.empty()) return p;
+    }
+    for (const auto& [key, a] : levels)
+        if (std::abs(a - area) > 1e-6 * area)
+            return fmt::format("the horizontal faces of material '{}' at z = {:g} m cover {:.6g} m^2 of the domain's "
+                               "{:.6g} m^2",
+                               key.material, key.z, a, area);
+    return "";
+}
+
+bool forwardTallyAnswers(const Scene& scene, const std::string& quantity, int medium) {
+    return medium > 0 && scene.media()[static_cast<size_t>(medium)].scattering() && tallyOf(quantity) >= 0;
+}
+
+namespace {
+
+// The planes: one per (medium, depth) that some answered quantity reads, and for each answered
+// (probe, quantity) its plane.
+struct Plan {
+    std::vector<Level> levels;
+    std::vector<std::tuple<int, std::string, size_t>> asked;  // probe, quantity, level
+};
+Plan planOf(const Scene& scene) {
+    Plan plan;
+    const ir::SceneIR& ir = scene.ir();
+    for (size_t i = 0; i < ir.probes.size(); ++i) {
+        const ir::Probe& p = ir.probes[i];
+        const int medium = scene.mediumIndex(p.medium, fmt::format("probe '{}' medium", p.name));
+        for (const std::string& q : p.quantities) {
+            if (!forwardTallyAnswers(scene, q, medium)) continue;
+            size_t k = 0;
+            while (k < plan.levels.size() && !(plan.levels[k].medium == medium && plan.levels[k].z == p.position.z)) ++k;
+            if (k == plan.levels.size()) plan.levels.push_back({medium, p.position.z});
+            plan.asked.emplace_back(static_cast<int>(i), q, k);
+        }
+    }
+    return plan;
+}
+
+// How the photons are cut: B batches of perBatch photons, in chunks of at most kChunk.
+struct Batches {
+    int B;
+    uint64_t perBatch, chunksPerBatch;
+    size_t chunks() const { return static_cast<size_t>(chunksPerBatch) * static_cast<size_t>(B); }
+};
+
+// The tallies of one band group: per chunk, per level and tally, the band sums (scaled to
+// irradiance); photons cut at max_bounces are added to *cuts. Shared by the ranks.
+std::vector<std::vector<Spec>> tallyGroup(const Scene& scene, const EstimatorSet& estimators, BandGroup g,
+                                          const std::vector<Level>& levels, const Batches& bt,
+                                          tbb::task_arena& arena, Progress* progress, uint64_t* cuts) {
+    const RenderConfig& cfg = estimators.config();
+    PhotonPassSettings ps;
+    ps.seed = scene.ir().render.seed;
+    ps.pass = kForwardPassBase + static_cast<uint64_t>(estimators.pass()) * 64 + static_cast<uint64_t>(g.begin);
+    ps.maxBounces = cfg.maxBounces;
+    ps.maxSpecularDepth = cfg.maxSpecularDepth;
+    ps.importance = false;
+    ps.rouletteBelow = kRouletteBelow;
+    const ObservedPhotons tracer(scene, g, ps);
+    const PhotonSource& src = tracer.source();
+    const double scale = src.area > 0 ? src.meanFlux / src.area : 0.0;  // W um^-1 m^-2 per unit relative power
+    const size_t n = bt.chunks(), values = levels.size() * kTallies;
+    std::vector<std::vector<Spec>> chunkSums(n);
+    std::vector<uint64_t> chunkCuts(n, 0);
+    auto sumChunk = [&](size_t c) {
+        const uint64_t batch = c / bt.chunksPerBatch, k0 = (c % bt.chunksPerBatch) * kChunk;
+        const uint64_t k1 = std::min(bt.perBatch, k0 + kChunk);
+        CrossingTally tally(scene, g, levels);
+        if (scale > 0)
+            for (uint64_t k = k0; k < k1; ++k) tracer.trace(batch * bt.perBatch + k, tally);
+        chunkSums[c] = tally.sums();
+        for (Spec& x : chunkSums[c]) x *= scale;
+        chunkCuts[c] = tally.cuts();
+        if (progress) progress->advance();
+    };
+    distributeItems(
+        n, 0, ShareWith::AllRanks,
+        [&](uint64_t c0, uint64_t c1) {
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1, 1), [&](const tbb::blocked_range<size_t>& r) {
+                    for (size_t c = r.begin(); c != r.end(); ++c) sumChunk(c);
+                });
+            });
+        },
+        [&](uint64_t c, ByteWriter& w) {
+            w.put(chunkCuts[c]);
+            for (const Spec& s : chunkSums[c])
+                for (int b = 0; b < g.count; ++b) w.put(s[b]);
+        },
+        [&](uint64_t c, ByteReader& r) {
+            chunkCuts[c] = r.get<uint64_t>();
+            chunkSums[c].assign(values, Spec(g.count));
+            for (Spec& s : chunkSums[c])
+                for (int b = 0; b < g.count; ++b) s[b] = r.get<double>();
+        });
+    for (uint64_t x : chunkCuts) *cuts += x;
+    return chunkSums;
+}
+
+}  // namespace
+
+ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
+    const RenderConfig& cfg = estimators.config();
+    const ir::SceneIR& ir = scene.ir();
+    if (cfg.estimator != ir::Estimator::Path || cfg.probePhotons == 0 || !horizontalInvarianceProblem(ir).empty())
+        return;
+    const Plan plan = planOf(scene);
+    if (plan.asked.empty()) return;
+    const int B = cfg.probeBatches;
+    const uint64_t perBatch = cfg.probePhotons / static_cast<uint64_t>(B);
+    const Batches bt{B, perBatch, (perBatch + kChunk - 1) / kChunk};
+    photons_ = perBatch * static_cast<uint64_t>(B);
+    const int nb = scene.bandCount();
+    const size_t values = plan.levels.size() * kTallies;
+    std::vector<ProbeValue> tallied(values);  // per level and tally: mean and se for every band
+    for (ProbeValue& v : tallied) v.mean.assign(nb, 0.0), v.stderr_.assign(nb, 0.0);
+    std::unique_ptr<Progress> progress;
+    if (opts.progress) progress = std::make_unique<Progress>("forward probe tallies", bt.chunks() * estimators.size(), "chunks");
+    tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
+    uint64_t cuts = 0;
+    for (size_t gi = 0; gi < estimators.size(); ++gi) {
+        const BandGroup g = estimators.groups()[gi];
+        const auto chunkSums = tallyGroup(scene, estimators, g, plan.levels, bt, arena, progress.get(), &cuts);
+        for (size_t v = 0; v < values; ++v) {
+            std::vector<Spec> sums(chunkSums.size());
+            for (size_t c = 0; c < chunkSums.size(); ++c) sums[c] = chunkSums[c][v];
+            batchStatistics(sums, B, static_cast<int>(bt.chunksPerBatch), static_cast<double>(perBatch), g, &tallied[v]);
+        }
+    }
+    if (progress) progress->finish();
+    const uint64_t traced = photons_ * estimators.size();
+    if (static_cast<double>(cuts) > 1e-4 * static_cast<double>(traced))
+        log::warn("{} of the forward probe tallies' {} photons reached render.max_bounces = {} with power left and were "
+                  "ended: the probes' irradiances are low. Raise render.max_bounces",
+                  cuts, traced, cfg.maxBounces);
+    for (const auto& [i, q, k] : plan.asked) {
+        const ir::Probe& p = ir.probes[static_cast<size_t>(i)];
+        ProbeValue v = tallied[k * kTallies + static_cast<size_t>(tallyOf(q))];
+        v.probe = p.name;
+        v.quantity = q;
+        v.units = "W m^-2 um^-1";
+        v.position = p.position;
+        v.medium = p.medium.empty() ? "air" : p.medium;
+        v.samples = static_cast<int64_t>(photons_);
+        v.batches = B;
+        v.method = "forward";
+        values_[{i, q}] = std::move(v);
+    }
+}
+
+const ProbeValue* ForwardTallies::find(int index, const std::string& q) const {
+    const auto it = values_.find({index, q});
+    return it == values_.end() ? nullptr : &it->second;
+}
+
+}  // namespace littoral::render

@@ -1,0 +1,208 @@
+// The forward irradiance tallies of the path estimator's probes (render/forward_tally.h) against
+// the column solver (column/, which shares no transport code with render/), on the hard columns of
+// issue 19: Petzold water at albedo 0.9 (Mobley et al. 1993, problem 2) and a stratified column to
+// 60 m; their convergence as 1/sqrt(N); determinism; and when they apply or are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace littoral::testing_support;
+
+namespace {
+
+fs::path sceneFile(const std::string& rel) { return fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / rel; }
+
+struct Cell {
+    double value = 0, se = 0;
+    std::string method;
+    long long samples = 0;
+};
+using Probes = std::map<std::string, std::map<std::string, Cell>>;  // probe -> quantity -> cell
+
+Probes readProbes(const fs::path& dir) {
+    Probes p;
+    std::ifstream in(dir / "probes.json");
+    if (!in) {
+        ADD_FAILURE() << "no probes.json in " << dir;
+        return p;
+    }
+    const auto j = nlohmann::json::parse(in);
+    for (const auto& v : j["probes"])
+        p[v["probe"].get<std::string>()][v["quantity"].get<std::string>()] =
+            Cell{v["value"][0].get<double>(), v["stderr"][0].get<double>(), v["method"].get<std::string>(),
+                 v["samples"].get<long long>()};
+    return p;
+}
+
+// `littoral run` on `yaml` (text) with 2 threads; its probes.
+Probes runProbes(const std::string& name, const std::string& yaml, const std::string& extra = "") {
+    const fs::path dir = scratchDir("pipelines", "forward_tally_" + name);
+    writeTextFile(dir, "scene.yaml", yaml);
+    const CommandResult r = runLittoral("-q run " + (dir / "scene.yaml").string() + " --out " + (dir / "out").string() +
+                                        " --threads 2 " + extra);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return readProbes(dir / "out");
+}
+
+std::string readText(const fs::path& f) {
+    std::ifstream in(f);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// {depth -> {quantity -> value}} of `littoral column` with n streams per half.
+std::map<double, std::map<std::string, double>> runColumn(const fs::path& scene, const std::string& depths, int streams) {
+    const fs::path out = scratchDir("pipelines", "forward_tally_column_" + scene.stem().string() + std::to_string(streams));
+    const CommandResult r = runLittoral("--quiet column " + scene.string() + " --out " + out.string() + " --depths " +
+                                        depths + " --streams " + std::to_string(streams));
+    EXPECT_EQ(r.status, 0) << r.output;
+    std::map<double, std::map<std::string, double>> cells;
+    std::ifstream in(out / "profiles.json");
+    if (!in) return cells;
+    const auto j = nlohmann::json::parse(in);
+    for (const auto& d : j["bands"][0]["depths"])
+        for (const char* q : {"Ed", "Eou"}) cells[d["depth_m"].get<double>()][q] = d[q].get<double>();
+    return cells;
+}
+
+// Every forward cell of `probes` (probe name -> depth) against the column solver: within 3 of its
+// standard errors plus the solver's discretisation error, bounded by the change from 8 to 16
+// streams per half (a false failure about once in 370 per cell from the noise), and with a
+// standard error of at most `maxRelSe` of the value.
+void expectColumnAgreement(const Probes& p, const fs::path& scene, const std::map<std::string, double>& depthOf,
+                           const std::string& depths, double maxRelSe) {
+    const auto base = runColumn(scene, depths, 8), fine = runColumn(scene, depths, 16);
+    for (const auto& [probe, z] : depthOf)
+        for (const char* q : {"Ed", "Eou"}) {
+            ASSERT_TRUE(p.count(probe) && p.at(probe).count(q)) << probe << " " << q;
+            const Cell& c = p.at(probe).at(q);
+            ASSERT_TRUE(base.count(z) && fine.count(z)) << scene << " depth " << z;
+            const double v = base.at(z).at(q), conv = std::abs(fine.at(z).at(q) - v);
+            EXPECT_EQ(c.method, "forward") << probe << " " << q;
+            EXPECT_NEAR(c.value, v, 3 * c.se + conv) << scene.filename() << " " << probe << " " << q;
+            EXPECT_LE(c.se, maxRelSe * c.value) << scene.filename() << " " << probe << " " << q;
+            std::printf("[ forward ] %-22s %-6s %-3s %.5e +- %.2e (%.2f %%)  column %.5e  diff %+.2f %% = %+.1f se\n",
+                        scene.filename().c_str(), probe.c_str(), q, c.value, c.se, 100 * c.se / c.value, v,
+                        100 * (c.value / v - 1), (c.value - v) / c.se);
+        }
+}
+
+}  // namespace
+
+// Mobley et al. (1993) problem 2 at albedo 0.9: Petzold water, the case where backward paths are
+// heavy-tailed (issue 19: 2-10 % errors after 60 s). 1,000,000 photons (the default) on 2 threads:
+// every Ed and Eou cell at tau 1, 5 and 10 within 3 se of the column, with se <= 1.2 % (measured
+// 0.04-1.05 %; the aim of 1 % holds at the larger photon counts of the benchmark). Lu stays
+// backward (docs/rendering.md, Known limits).
+TEST(ForwardTallies, PetzoldAlbedo09ColumnAgreesWithTheColumnSolver) {
+    const fs::path scene = sceneFile("mobley1993/problem2_albedo09.yaml");
+    const Probes p = runProbes("problem2", readText(scene));
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", 0.012);
+    EXPECT_EQ(p.at("tau1").at("Ed").samples, 1000000);
+    EXPECT_EQ(p.at("tau5").at("Lu").method, "backward");
+}
+
+// A stratified column to 60 m (three layers of pure water and Petzold particles, the albedo 0.86 in
+// a chlorophyll maximum at 10-25 m): Ed at 5 to 59 m and Eou down to 15 m, where the field has
+// fallen by less than 10^2 (below, the upwelling light at 1,000,000 photons has 5-30 % errors: the
+// tallies do not yet split photons by depth; docs/rendering.md, Known limits).
+TEST(ForwardTallies, StratifiedColumnAgreesWithTheColumnSolver) {
+    const fs::path scene = sceneFile("columns/stratified_60m.yaml");
+    const Probes p = runProbes("stratified", readText(scene));
+    expectColumnAgreement(p, scene, {{"z5", 5}, {"z15", 15}}, "5,15", 0.015);
+    const auto base = runColumn(scene, "25,40,59", 8), fine = runColumn(scene, "25,40,59", 16);
+    for (const auto& [probe, z] : std::map<std::string, double>{{"z25", 25}, {"z40", 40}, {"z59", 59}}) {
+        const Cell& c = p.at(probe).at("Ed");
+        const double v = base.at(z).at("Ed"), conv = std::abs(fine.at(z).at("Ed") - v);
+        EXPECT_NEAR(c.value, v, 3 * c.se + conv) << probe;
+        EXPECT_LE(c.se, 0.01 * c.value) << probe;
+    }
+}
+
+// The standard error falls as 1/sqrt(N): 250,000 and 4,000,000 photons (16x) with 64 batches each
+// (at 1000 photons per batch the batch means of Eou are still skewed by grazing crossings, so the
+// smaller run starts at about 4000).
+// The ratio of the two errors is 4 for a finite-variance estimate; each error estimated from 64
+// batch means has a relative spread of about 1 / sqrt(2 x 63) = 0.089, so ln(ratio) has a spread of
+// 0.126 and the ratio lies in [4 e^-0.38, 4 e^0.38] = [2.74, 5.85] with 3-sigma confidence. A heavy
+// tail (infinite variance) would show as a ratio well below 4 in some cell.
+TEST(ForwardTallies, StandardErrorFallsAsOneOverRootN) {
+    const std::string base = replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")), "probe_batches: 20",
+                                          "probe_batches: 64");
+    const std::string noLu = replacedOnce(replacedOnce(replacedOnce(base, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
+                                                       "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
+                                          "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
+    const Probes small = runProbes("small", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 250000"));
+    const Probes large = runProbes("large", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 4000000"));
+    for (const char* probe : {"tau1", "tau5", "tau10"})
+        for (const char* q : {"Ed", "Eou"}) {
+            const double ratio = small.at(probe).at(q).se / large.at(probe).at(q).se;
+            EXPECT_GE(ratio, 2.74) << probe << " " << q;
+            EXPECT_LE(ratio, 5.85) << probe << " " << q;
+            std::printf("[ forward ] %s %s: se(2.5e5) / se(4e6) = %.2f\n", probe, q, ratio);
+        }
+}
+
+// Identical for 1 and 2 threads (chunks of fixed photon ranges, summed in order).
+TEST(ForwardTallies, ResultsDoNotDependOnTheThreadCount) {
+    const std::string yaml = replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")), "probe_photons: 1000000",
+                                          "probe_photons: 40000");
+    const std::string noLu = replacedOnce(replacedOnce(replacedOnce(yaml, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
+                                                       "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
+                                          "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
+    const fs::path dir = scratchDir("pipelines", "forward_tally_threads");
+    writeTextFile(dir, "scene.yaml", noLu);
+    for (const char* t : {"1", "2"}) {
+        const CommandResult r = runLittoral("-q run " + (dir / "scene.yaml").string() + " --out " +
+                                            (dir / ("out" + std::string(t))).string() + " --threads " + t);
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    EXPECT_EQ(readText(dir / "out1" / "probes.csv"), readText(dir / "out2" / "probes.csv"));
+}
+
+// Where the scene is not horizontally invariant the probes use backward paths; setting
+// render.probe_photons there is refused by check-scene (and run) at its line, naming what breaks
+// the invariance. Probes in water that does not scatter, and Lu, stay backward.
+TEST(ForwardTallies, ApplyOnlyToHorizontallyInvariantScenes) {
+    const std::string column = replacedOnce(
+        replacedOnce(replacedOnce(replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")),
+                                               "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou], samples: 2000"),
+                                  "[Ed, Eou, Lu], samples: 80000", "[Ed], samples: 2000"),
+                     "[Ed, Eou, Lu], samples: 200000", "[Ed], samples: 2000"),
+        "probe_photons: 1000000", "probe_photons: 20000");
+    const fs::path dir = scratchDir("pipelines", "forward_tally_invariance");
+    writeTextFile(dir, "cube.obj", kUnitCubeObj);
+    // A floating box breaks the invariance.
+    const std::string boxed = replacedOnce(column, "materials:\n", "objects:\n  - {name: box, mesh: cube.obj, materials: [box-paint], "
+                                                                  "position_m: [0, 0], draft_m: 0.2}\nmaterials:\n  - {name: box-paint, reflectance: 0.3}\n");
+    writeTextFile(dir, "boxed.yaml", boxed);
+    const CommandResult refused = runLittoral("check-scene " + (dir / "boxed.yaml").string());
+    EXPECT_EQ(refused.status, 1) << refused.output;
+    EXPECT_NE(refused.output.find("boxed.yaml:"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("render.probe_photons"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("horizontally invariant"), std::string::npos) << refused.output;
+    // Without the key the same scene runs, backward.
+    writeTextFile(dir, "boxed_default.yaml", replacedOnce(boxed, "probe_photons: 20000", "probe_photons: 0"));
+    const CommandResult ran = runLittoral("-q run " + (dir / "boxed_default.yaml").string() + " --out " +
+                                          (dir / "boxed_out").string() + " --threads 2");
+    ASSERT_EQ(ran.status, 0) << ran.output;
+    for (const auto& [probe, qs] : readProbes(dir / "boxed_out"))
+        for (const auto& [q, c] : qs) EXPECT_EQ(c.method, "backward") << probe << " " << q;
+    // The column itself: forward; and with probe_photons: 0, backward.
+    const Probes fwd = runProbes("invariant", column);
+    EXPECT_EQ(fwd.at("tau1").at("Eou").method, "forward");
+    const Probes bwd = runProbes("off", replacedOnce(column, "probe_photons: 20000", "probe_photons: 0"));
+    EXPECT_EQ(bwd.at("tau1").at("Eou").method, "backward");
+    EXPECT_EQ(bwd.at("tau1").at("Eou").samples, 2000);
+}
