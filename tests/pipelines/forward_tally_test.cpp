@@ -98,6 +98,14 @@ void expectColumnAgreement(const Probes& p, const fs::path& scene, const std::ma
         }
 }
 
+// Problem 2's scene file with its probes reading Ed and Eou only (no backward Lu paths).
+std::string problem2IrradiancesOnly() {
+    const std::string text = readText(sceneFile("mobley1993/problem2_albedo09.yaml"));
+    return replacedOnce(replacedOnce(replacedOnce(text, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
+                                     "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
+                        "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
+}
+
 }  // namespace
 
 // Mobley et al. (1993) problem 2 at albedo 0.9: Petzold water, the case where backward paths are
@@ -138,11 +146,7 @@ TEST(ForwardTallies, StratifiedColumnAgreesWithTheColumnSolver) {
 // 0.126 and the ratio lies in [4 e^-0.38, 4 e^0.38] = [2.74, 5.85] with 3-sigma confidence. A heavy
 // tail (infinite variance) would show as a ratio well below 4 in some cell.
 TEST(ForwardTallies, StandardErrorFallsAsOneOverRootN) {
-    const std::string base = replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")), "probe_batches: 20",
-                                          "probe_batches: 64");
-    const std::string noLu = replacedOnce(replacedOnce(replacedOnce(base, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
-                                                       "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
-                                          "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
+    const std::string noLu = replacedOnce(problem2IrradiancesOnly(), "probe_batches: 20", "probe_batches: 64");
     const Probes small = runProbes("small", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 250000"));
     const Probes large = runProbes("large", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 4000000"));
     for (const char* probe : {"tau1", "tau5", "tau10"})
@@ -156,11 +160,7 @@ TEST(ForwardTallies, StandardErrorFallsAsOneOverRootN) {
 
 // Identical for 1 and 2 threads (chunks of fixed photon ranges, summed in order).
 TEST(ForwardTallies, ResultsDoNotDependOnTheThreadCount) {
-    const std::string yaml = replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")), "probe_photons: 1000000",
-                                          "probe_photons: 40000");
-    const std::string noLu = replacedOnce(replacedOnce(replacedOnce(yaml, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
-                                                       "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
-                                          "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
+    const std::string noLu = replacedOnce(problem2IrradiancesOnly(), "probe_photons: 1000000", "probe_photons: 40000");
     const fs::path dir = scratchDir("pipelines", "forward_tally_threads");
     writeTextFile(dir, "scene.yaml", noLu);
     for (const char* t : {"1", "2"}) {
