@@ -45,9 +45,10 @@ ParamSpec probeBatchesSetting() {
 }
 // The path estimator's forward irradiance tallies (render/forward_tally.h).
 ParamSpec probePhotonsSetting() {
-    return {"probe_photons", "", ParamType::Integer, 0, 0, 1e12, "",
-            "photons traced from the sun and sky for the forward tallies of Ed, Eu, Eod and Eou at probes in "
-            "scattering water of a horizontally invariant scene (docs/rendering.md); 0 (the default) = backward paths only"};
+    return {"probe_photons", "", ParamType::Integer, 1e6, 0, 1e12, "",
+            "photons traced from the sun and sky for the forward tallies of Ed, Eu, Eod, Eou and Lu at probes in "
+            "scattering water of a horizontally invariant scene, where a pilot chooses forward or backward per "
+            "quantity (docs/rendering.md); 0 = backward paths only"};
 }
 // Up to 100 m: a longer step would take one in-scatter estimate over more water than any scene
 // holds (the range scene files have always had; scene.json allowed 1e4 until both read this one).

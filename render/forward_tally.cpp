@@ -11,6 +11,8 @@
 #include <tbb/task_arena.h>
 
 #include "core/log.h"
+#include "core/material_kinds.h"
+#include "core/units.h"
 #include "core/progress.h"
 #include "render/distributed.h"
 #include "render/photon_pass.h"
@@ -21,26 +23,32 @@ namespace {
 
 // Random-stream passes of the forward tallies: far from the photon maps' (pass x 64 + band).
 constexpr uint64_t kForwardPassBase = 1ull << 20;
+constexpr uint64_t kForwardPilotPassBase = 1ull << 21;  // the pilot's (render/probes.cpp)
 constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in chunk order)
 // Weight window of the tallies' roulette: photons lose power by the albedo at each collision and
 // play roulette only below a quarter, so that each one crosses the deep planes with its weight
 // instead of ending early (survival biasing; unbiased either way).
 constexpr double kRouletteBelow = 0.25;
 
-enum Tally { kEd, kEu, kEod, kEou, kTallies };
+enum Tally { kEd, kEu, kEod, kEou, kLu, kTallies };
 
 // A crossing at direction cosine mu adds w / |mu| to the scalar irradiance; the second moment of
 // that is log-divergent at grazing angles (Int L / mu dmu), and one grazing photon can carry a
 // batch. Below kGrazingMu the weight is 2 / kGrazingMu instead (the usual grazing correction of
 // crossing tallies): the expected value is the same when L is constant over |mu| < kGrazingMu, and
 // for radiance L0 + L1 mu there the difference is 2 pi L1 kGrazingMu^2 / 6, at most 1.7e-5 of
-// Eo = 2 pi <L> when |L1| <= <L> (docs/rendering.md, "Forward irradiance tallies").
+// Eo = 2 pi <L> when |L1| <= <L> (docs/rendering.md, "Forward probe tallies").
 constexpr double kGrazingMu = 0.01;
 
 struct Level {
     int medium;
     double z;
+    // Lu: the plane of the nearest horizontal face below (-infinity: none). Collisions between it
+    // and z, and diffuse reflections on it, send light up to the probe with no surface between.
+    bool radiance = false;
+    double floor = -ir::kInfinity;
 };
+const Vec3 kUp{0, 0, 1};
 
 // Sums the crossings of one chunk's photons through the probe planes, per level, tally and band.
 class CrossingTally final : public PhotonObserver {
@@ -78,6 +86,30 @@ public:
             sums_[base + (dz < 0 ? kEod : kEou)] += wt * inv;
         }
     }
+    // Lu (nadir-viewing, light travelling up) as a collision estimator: a collision at x below the
+    // plane sends w p(dIn -> up) T(x -> plane) per unit area into the upward direction at the plane
+    // (w carries the albedo already), and a Lambertian floor w rho / pi T (docs/rendering.md).
+    void collision(const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) override {
+        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+        for (size_t k = 0; k < levels_.size(); ++k) {
+            const Level& l = levels_[k];
+            if (!l.radiance || l.medium != medium || !(x.z < l.z && x.z > l.floor)) continue;
+            const Spec p = md.phase(layer, g_, dIn, kUp);
+            sums_[k * kTallies + kLu] += w * p * md.transmittance(Ray{x, kUp}, l.z - x.z, g_);
+        }
+    }
+    void diffuse(const SurfaceHit& h, int medium, const Spec& rho, const Spec& w) override {
+        const Normal3 n = h.front ? h.ng : -h.ng;
+        if (!(n.z > 0) || rho.isBlack()) return;
+        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+        for (size_t k = 0; k < levels_.size(); ++k) {
+            const Level& l = levels_[k];
+            if (!l.radiance || l.medium != medium || std::abs(h.p.z - l.floor) > 1e-6 * std::max(1.0, std::abs(l.floor)))
+                continue;
+            const Ray up{Point3{h.p.x, h.p.y, l.floor}, kUp};
+            sums_[k * kTallies + kLu] += w * rho * (1.0 / kPi) * md.transmittance(up, l.z - l.floor, g_);
+        }
+    }
     void cut(const Spec& w) override {
         ++cuts_;
         (void)w;
@@ -98,6 +130,7 @@ int tallyOf(const std::string& q) {
     if (q == "Eu") return kEu;
     if (q == "Eod") return kEod;
     if (q == "Eou") return kEou;
+    if (q == "Lu") return kLu;
     return -1;
 }
 
@@ -137,11 +170,14 @@ std::string meshProblem(const ir::SceneIR& ir, const ir::Mesh& mesh, std::map<Le
 
 }  // namespace
 
-std::string horizontalInvarianceProblem(const ir::SceneIR& ir) {
+namespace {
+
+// As horizontalInvarianceProblem; *levels receives the horizontal faces' planes.
+std::string invarianceProblem(const ir::SceneIR& ir, std::map<LevelKey, double>* faces) {
     if (!ir.domain.periodic) return "the domain is not periodic (water.horizontal: periodic)";
     if (!ir.instances.empty()) return fmt::format("the scene places {} mesh instance(s) (objects)", ir.instances.size());
     const double area = (ir.domain.x1 - ir.domain.x0) * (ir.domain.y1 - ir.domain.y0);
-    std::map<LevelKey, double> levels;
+    std::map<LevelKey, double>& levels = *faces;
     for (const ir::Mesh& mesh : ir.meshes) {
         const std::string p = meshProblem(ir, mesh, &levels);
         if (!p.empty()) return p;
@@ -154,11 +190,48 @@ std::string horizontalInvarianceProblem(const ir::SceneIR& ir) {
     return "";
 }
 
-bool forwardTallyAnswers(const Scene& scene, const std::string& quantity, int medium) {
-    return medium > 0 && scene.media()[static_cast<size_t>(medium)].scattering() && tallyOf(quantity) >= 0;
+}  // namespace
+
+std::string horizontalInvarianceProblem(const ir::SceneIR& ir) {
+    std::map<LevelKey, double> faces;
+    return invarianceProblem(ir, &faces);
 }
 
 namespace {
+
+// The plane of the highest horizontal face below z (-infinity: none), and whether that face only
+// reflects diffusely or absorbs (then Lu at z comes from the water between and that floor alone).
+std::pair<double, bool> floorBelow(const ir::SceneIR& ir, const std::map<LevelKey, double>& faces, double z) {
+    double floor = -ir::kInfinity;
+    bool diffuseOnly = true;
+    for (const auto& [key, a] : faces) {
+        if (!(key.z < z) || key.z < floor) continue;
+        const ir::Material* mat = ir.findMaterial(key.material);
+        const bool d = mat && !(materialKind(mat->type).lobes & (kTransmission | kSpecular | kGlossy));
+        diffuseOnly = key.z > floor ? d : diffuseOnly && d;
+        floor = key.z;
+    }
+    return {floor, diffuseOnly};
+}
+
+// Whether every phase function of the medium is finite in the exact forward direction. Lu's
+// collision weights w p(d -> up) have a finite variance only then: Petzold and Fournier-Forand
+// rise as a power of the angle, p ~ psi^-1.35 (Petzold), and Int p^2 dw diverges at psi = 0.
+bool boundedForwardPeak(const Medium& md) {
+    for (const MediumLayer& l : md.layers())
+        for (const PhaseFunction& p : l.phases)
+            if (!std::isfinite(p.evalOneMinusCos(0.0))) return false;
+    return true;
+}
+
+// Whether the forward tallies answer quantity `q` of a probe at depth z in `medium`: Ed, Eu, Eod
+// and Eou in a scattering medium; Lu too when the face below it only reflects diffusely and the
+// medium's phase functions are bounded.
+bool answers(const Scene& scene, const std::map<LevelKey, double>& faces, const std::string& q, int medium, double z) {
+    if (!(medium > 0 && scene.media()[static_cast<size_t>(medium)].scattering()) || tallyOf(q) < 0) return false;
+    return q != "Lu" ||
+           (boundedForwardPeak(scene.media()[static_cast<size_t>(medium)]) && floorBelow(scene.ir(), faces, z).second);
+}
 
 // The planes: one per (medium, depth) that some answered quantity reads, and for each answered
 // (probe, quantity) its plane.
@@ -166,17 +239,21 @@ struct Plan {
     std::vector<Level> levels;
     std::vector<std::tuple<int, std::string, size_t>> asked;  // probe, quantity, level
 };
-Plan planOf(const Scene& scene) {
+Plan planOf(const Scene& scene, const std::set<std::pair<int, std::string>>& only) {
     Plan plan;
     const ir::SceneIR& ir = scene.ir();
+    std::map<LevelKey, double> faces;
+    if (!invarianceProblem(ir, &faces).empty()) return plan;
     for (size_t i = 0; i < ir.probes.size(); ++i) {
         const ir::Probe& p = ir.probes[i];
         const int medium = scene.mediumIndex(p.medium, fmt::format("probe '{}' medium", p.name));
         for (const std::string& q : p.quantities) {
-            if (!forwardTallyAnswers(scene, q, medium)) continue;
+            if (!answers(scene, faces, q, medium, p.position.z)) continue;
+            if (!only.empty() && !only.count({static_cast<int>(i), q})) continue;
             size_t k = 0;
             while (k < plan.levels.size() && !(plan.levels[k].medium == medium && plan.levels[k].z == p.position.z)) ++k;
             if (k == plan.levels.size()) plan.levels.push_back({medium, p.position.z});
+            if (q == "Lu") plan.levels[k].radiance = true, plan.levels[k].floor = floorBelow(ir, faces, p.position.z).first;
             plan.asked.emplace_back(static_cast<int>(i), q, k);
         }
     }
@@ -193,12 +270,13 @@ struct Batches {
 // The tallies of one band group: per chunk, per level and tally, the band sums (scaled to
 // irradiance); photons cut at max_bounces are added to *cuts. Shared by the ranks.
 std::vector<std::vector<Spec>> tallyGroup(const Scene& scene, const EstimatorSet& estimators, BandGroup g,
-                                          const std::vector<Level>& levels, const Batches& bt,
+                                          const std::vector<Level>& levels, const Batches& bt, bool pilot,
                                           tbb::task_arena& arena, Progress* progress, uint64_t* cuts) {
     const RenderConfig& cfg = estimators.config();
     PhotonPassSettings ps;
     ps.seed = scene.ir().render.seed;
-    ps.pass = kForwardPassBase + static_cast<uint64_t>(estimators.pass()) * 64 + static_cast<uint64_t>(g.begin);
+    ps.pass = (pilot ? kForwardPilotPassBase : kForwardPassBase) + static_cast<uint64_t>(estimators.pass()) * 64 +
+              static_cast<uint64_t>(g.begin);
     ps.maxBounces = cfg.maxBounces;
     ps.maxSpecularDepth = cfg.maxSpecularDepth;
     ps.importance = false;
@@ -246,28 +324,28 @@ std::vector<std::vector<Spec>> tallyGroup(const Scene& scene, const EstimatorSet
 
 }  // namespace
 
-ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
+ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts,
+                               const ForwardTallyRun& run) {
     const RenderConfig& cfg = estimators.config();
     const ir::SceneIR& ir = scene.ir();
-    if (cfg.estimator != ir::Estimator::Path || cfg.probePhotons == 0 || !horizontalInvarianceProblem(ir).empty())
-        return;
-    const Plan plan = planOf(scene);
+    if (cfg.estimator != ir::Estimator::Path || cfg.probePhotons == 0) return;
+    const Plan plan = planOf(scene, run.only);
     if (plan.asked.empty()) return;
     const int B = cfg.probeBatches;
-    const uint64_t perBatch = cfg.probePhotons / static_cast<uint64_t>(B);
+    const uint64_t perBatch = std::max<uint64_t>(1, (run.photons > 0 ? run.photons : cfg.probePhotons) / static_cast<uint64_t>(B));
     const Batches bt{B, perBatch, (perBatch + kChunk - 1) / kChunk};
-    photons_ = perBatch * static_cast<uint64_t>(B);
+    const uint64_t photons = perBatch * static_cast<uint64_t>(B);
     const int nb = scene.bandCount();
     const size_t values = plan.levels.size() * kTallies;
     std::vector<ProbeValue> tallied(values);  // per level and tally: mean and se for every band
     for (ProbeValue& v : tallied) v.mean.assign(nb, 0.0), v.stderr_.assign(nb, 0.0);
     std::unique_ptr<Progress> progress;
-    if (opts.progress) progress = std::make_unique<Progress>("forward probe tallies", bt.chunks() * estimators.size(), "chunks");
+    if (opts.progress && !run.pilot) progress = std::make_unique<Progress>("forward probe tallies", bt.chunks() * estimators.size(), "chunks");
     tbb::task_arena arena(opts.threads > 0 ? opts.threads : tbb::task_arena::automatic);
     uint64_t cuts = 0;
     for (size_t gi = 0; gi < estimators.size(); ++gi) {
         const BandGroup g = estimators.groups()[gi];
-        const auto chunkSums = tallyGroup(scene, estimators, g, plan.levels, bt, arena, progress.get(), &cuts);
+        const auto chunkSums = tallyGroup(scene, estimators, g, plan.levels, bt, run.pilot, arena, progress.get(), &cuts);
         for (size_t v = 0; v < values; ++v) {
             std::vector<Spec> sums(chunkSums.size());
             for (size_t c = 0; c < chunkSums.size(); ++c) sums[c] = chunkSums[c][v];
@@ -275,8 +353,8 @@ ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimator
         }
     }
     if (progress) progress->finish();
-    const uint64_t traced = photons_ * estimators.size();
-    if (static_cast<double>(cuts) > 1e-4 * static_cast<double>(traced))
+    const uint64_t traced = photons * estimators.size();
+    if (!run.pilot && static_cast<double>(cuts) > 1e-4 * static_cast<double>(traced))
         log::warn("{} of the forward probe tallies' {} photons reached render.max_bounces = {} with power left and were "
                   "ended: the probes' irradiances are low. Raise render.max_bounces",
                   cuts, traced, cfg.maxBounces);
@@ -285,14 +363,20 @@ ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimator
         ProbeValue v = tallied[k * kTallies + static_cast<size_t>(tallyOf(q))];
         v.probe = p.name;
         v.quantity = q;
-        v.units = "W m^-2 um^-1";
+        v.units = q == "Lu" ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
         v.position = p.position;
         v.medium = p.medium.empty() ? "air" : p.medium;
-        v.samples = static_cast<int64_t>(photons_);
+        v.samples = static_cast<int64_t>(photons);
         v.batches = B;
         v.method = "forward";
         values_[{i, q}] = std::move(v);
     }
+}
+
+std::vector<std::pair<int, std::string>> ForwardTallies::answered() const {
+    std::vector<std::pair<int, std::string>> keys;
+    for (const auto& [key, v] : values_) keys.push_back(key);
+    return keys;
 }
 
 const ProbeValue* ForwardTallies::find(int index, const std::string& q) const {

@@ -1,6 +1,6 @@
 #pragma once
 // Forward plane-crossing tallies for the irradiance probes of a horizontally invariant scene
-// (docs/rendering.md, "Forward irradiance tallies").
+// (docs/rendering.md, "Forward probe tallies").
 //
 // In a scene that does not change along x and y (a periodic domain whose every surface is a
 // horizontal plane covering the whole domain with one material, and no instances) the light field
@@ -14,12 +14,19 @@
 // relative power where it crosses and mu the z component of its direction. Each crossing is an
 // unbiased estimate (the expected number of crossings per unit area is the plane irradiance,
 // Case & Zweifel's flux-crossing identity), so the tallies are unbiased for the scene they accept.
+// Lu (the radiance travelling straight up) is a collision estimator: every collision below the
+// plane adds its scattered power into the upward direction, attenuated to the plane,
+//   Lu(z)  = Phi / (A N) [sum over collisions at z' < z of w p(d -> up) T(z', z)
+//                         + sum over hits on a Lambertian floor of w rho / pi T(floor, z)],
+// with w the power after the collision's albedo and d the photon's direction before it. It applies
+// when the nearest face below the probe reflects only diffusely (or absorbs), or there is none.
 // A backward estimate at a probe at depth 10 in forward-peaked, high-albedo water must find the
 // sunlit forward peak by sampling (heavy tails); a forward photon carries it there by construction.
 //
 // Standard errors come from render.probe_batches independent batches of photons, as for the
 // backward probes. Results do not depend on the thread count or the ranks.
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,25 +40,29 @@ namespace littoral::render {
 // "" if the scene is horizontally invariant (above); otherwise why not, naming the element.
 std::string horizontalInvarianceProblem(const ir::SceneIR& ir);
 
-// Whether the forward tallies answer quantity `q` of a probe in medium `medium` (a scattering
-// medium; Ed, Eu, Eod or Eou).
-bool forwardTallyAnswers(const Scene& scene, const std::string& quantity, int medium);
-
 // The forward tallies of every probe quantity they answer. Empty when render.probe_photons is 0,
 // the estimator is not `path`, the scene is not horizontally invariant or no probe asks for an
 // answered quantity.
+// What one run of the tallies traces and answers.
+struct ForwardTallyRun {
+    uint64_t photons = 0;  // 0: render.probe_photons
+    bool pilot = false;    // the pilot's own random streams (render/probes.cpp), no progress bar
+    // The (probe index, quantity) pairs to answer; empty: every one the tallies answer.
+    std::set<std::pair<int, std::string>> only;
+};
+
 class ForwardTallies {
 public:
     ForwardTallies() = default;
-    ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts);
-    bool empty() const { return values_.empty(); }
+    ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts,
+                   const ForwardTallyRun& run = {});
+    // The (probe index, quantity) pairs answered, in order.
+    std::vector<std::pair<int, std::string>> answered() const;
     // The value of quantity `q` of probe `index` (into ir.probes), or nullptr.
     const ProbeValue* find(int index, const std::string& q) const;
-    uint64_t photons() const { return photons_; }
 
 private:
     std::map<std::pair<int, std::string>, ProbeValue> values_;
-    uint64_t photons_ = 0;
 };
 
 }  // namespace littoral::render

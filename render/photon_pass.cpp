@@ -67,8 +67,8 @@ private:
     bool scatter(Ray& ray, const FreeFlight& ff, int medium, int& events, Spec& w, RandomStream& rng,
                  ChunkResult& out, PhotonObserver* observer) const;
     // A diffuse vertex: stores the photon (SurfacePM materials) and reflects it. False if it ends.
-    bool reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Spec& w, RandomStream& rng,
-                        ChunkResult& out) const;
+    bool reflectDiffuse(Ray& ray, const SurfaceHit& h, int medium, int& events, Spec& w, RandomStream& rng,
+                        ChunkResult& out, PhotonObserver* observer) const;
     // The photon's walk from its emission until it ends.
     void walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const;
 
@@ -83,12 +83,13 @@ bool PhotonTracer::scatter(Ray& ray, const FreeFlight& ff, int medium, int& even
                            ChunkResult& out, PhotonObserver* observer) const {
     static const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
     if (w.isBlack()) return false;
+    const Point3 x = ray.at(ff.t);
+    if (observer) observer->collision(x, ray.d, medium, ff.layer, w);
     if (++events > st_.maxBounces) {
         if (observer) observer->cut(w);
         return false;
     }
     const Medium& md = scene_.media()[static_cast<size_t>(medium)];
-    const Point3 x = ray.at(ff.t);
     Spec pw;
     const Vec3 wi = md.samplePhase(ff.layer, g_, ray.d, rng, &pw);
     const bool forward = st_.effectiveScattering && dot(wi, ray.d) > cosCone;
@@ -102,9 +103,10 @@ bool PhotonTracer::scatter(Ray& ray, const FreeFlight& ff, int medium, int& even
     return roulette(w, rng);
 }
 
-bool PhotonTracer::reflectDiffuse(Ray& ray, const SurfaceHit& h, int& events, Spec& w, RandomStream& rng,
-                                  ChunkResult& out) const {
+bool PhotonTracer::reflectDiffuse(Ray& ray, const SurfaceHit& h, int medium, int& events, Spec& w, RandomStream& rng,
+                                  ChunkResult& out, PhotonObserver* observer) const {
     const Spec rho = scene_.albedo(h, g_);
+    if (observer) observer->diffuse(h, medium, rho, w);
     const Normal3 n = h.front ? h.ng : -h.ng;
     if (st_.surfaceMaterial[static_cast<size_t>(scene_.materialIndex(h))]) out.surface.add(h.p, ray.d, n, w);
     if (rho.isBlack() || ++events > st_.maxBounces) return false;
@@ -178,7 +180,7 @@ void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, Ph
             continue;
         }
         InteractionStep::requireDiffuse(bxdf);
-        if (!reflectDiffuse(ray, h, events, w, rng, out)) return;
+        if (!reflectDiffuse(ray, h, medium, events, w, rng, out, observer)) return;
     }
 }
 

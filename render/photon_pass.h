@@ -125,6 +125,15 @@ public:
     // photon's power is w_b T_b(t) / mean_i T_i(t); otherwise the medium's transmittance
     // attenuates it deterministically, w_b T_b(t).
     virtual void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled) = 0;
+    // A collision at x in a scattering medium's `layer`, of a photon travelling along dIn, with power
+    // w per band after the collision's single-scattering albedo (before the phase function turns it).
+    virtual void collision(const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) {
+        (void)x, (void)dIn, (void)medium, (void)layer, (void)w;
+    }
+    // A diffuse vertex at h, reached from `medium` with power w per band; the surface reflects rho.
+    virtual void diffuse(const SurfaceHit& h, int medium, const Spec& rho, const Spec& w) {
+        (void)h, (void)medium, (void)rho, (void)w;
+    }
     // The photon reached PhotonPassSettings::maxBounces events with power w left and was ended.
     virtual void cut(const Spec& w) { (void)w; }
 };

@@ -30,6 +30,7 @@ namespace {
 
 struct ProbeCell {
     double value = NAN, stderr_ = NAN;
+    std::string method;
 };
 
 // Runs one scene file and returns {probe name -> {quantity -> (value, stderr)}} of band 0. With
@@ -56,7 +57,7 @@ std::map<std::string, std::map<std::string, ProbeCell>> runProblem(const std::st
     const auto j = nlohmann::json::parse(in);
     for (const auto& p : j["probes"])
         cells[p["probe"].get<std::string>()][p["quantity"].get<std::string>()] =
-            ProbeCell{p["value"][0].get<double>(), p["stderr"][0].get<double>()};
+            ProbeCell{p["value"][0].get<double>(), p["stderr"][0].get<double>(), p["method"].get<std::string>()};
     return cells;
 }
 
@@ -92,8 +93,13 @@ Cells checkProblem(const std::string& file, int problem, double w0, const std::m
 
 }  // namespace
 
+// The column is horizontally invariant, so a pilot chooses forward or backward per cell
+// (docs/rendering.md); Lu at tau 1 and 5 goes forward (the collision estimator: the pilot predicts
+// 0.07 % and 0.3 % against 0.6 % and 0.9 % backward), so the published Lu checks it.
 TEST(Mobley1993, Problem1Albedo09) {
-    checkProblem("problem1_albedo09.yaml", 1, 0.9, {{1.0, "tau1"}, {5.0, "tau5"}, {10.0, "tau10"}});
+    const Cells cells = checkProblem("problem1_albedo09.yaml", 1, 0.9, {{1.0, "tau1"}, {5.0, "tau5"}, {10.0, "tau10"}});
+    EXPECT_EQ(cells.at("tau1").at("Lu").method, "forward");
+    EXPECT_EQ(cells.at("tau5").at("Lu").method, "forward");
 }
 
 // Backward paths for every quantity (the forward tallies off): the estimator every scene that is
@@ -104,10 +110,14 @@ TEST(Mobley1993, Problem1Albedo02BackwardPaths) {
 
 // Problem 6 also has the bottom identities Eou = 2 Eu = Ed and Lu = Eu / pi for a Lambertian
 // bottom (reference-data.md); Eou and Lu at the bottom are compared with Ed through them, within
-// 3 combined standard errors. Here Ed and Eou come from the forward tallies and Lu from backward
-// paths, so the second identity also checks the two methods against each other.
+// 3 combined standard errors. In this low-albedo water the pilot predicts smaller errors for
+// backward paths (Eou at tau 1: 0.7 % against 2.5 % forward at 10^6 photons; Ed at tau 5: 0.36 %
+// against 1.2 %), so they answer: the choice the forward tallies' default must leave alone.
 TEST(Mobley1993, Problem6ShallowBottom) {
     const Cells cells = checkProblem("problem6.yaml", 6, 0.2, {{1.0, "tau1"}, {5.0, "tau5"}});
+    EXPECT_EQ(cells.at("tau1").at("Eou").method, "backward");
+    EXPECT_EQ(cells.at("tau5").at("Ed").method, "backward");
+    EXPECT_EQ(cells.at("tau5").at("Eou").method, "backward");
     ASSERT_TRUE(cells.count("tau5"));
     const auto& b = cells.at("tau5");
     const ProbeCell ed = b.at("Ed"), eou = b.at("Eou"), lu = b.at("Lu");
