@@ -325,7 +325,19 @@ long lockOwner(const std::string& path) {
     if (!(f >> pid) || pid <= 0) return 0;
     return pid;
 }
-bool processRuns(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
+// Whether `pid` is a process that can still write: one that exists (kill 0 succeeds, or it is another
+// user's) and is not a zombie. A killed command whose parent exited is reparented to PID 1, and in a
+// container PID 1 often never reaps it: its lock would otherwise be held for ever (seen in CI after
+// mpirun was stopped with SIGTERM: the resumed run was refused by the killed rank's zombie).
+bool processRuns(long pid) {
+    if (pid <= 0 || (::kill(static_cast<pid_t>(pid), 0) != 0 && errno != EPERM)) return false;
+    std::ifstream stat(fmt::format("/proc/{}/stat", pid));
+    std::string text;
+    if (!std::getline(stat, text)) return true;  // no /proc: trust kill
+    // "pid (comm) S ...": the state follows the last ')' (comm may hold spaces and parentheses).
+    const size_t close = text.rfind(')');
+    return close == std::string::npos || close + 2 >= text.size() || (text[close + 2] != 'Z' && text[close + 2] != 'X');
+}
 }  // namespace
 
 namespace {

@@ -755,6 +755,25 @@ TEST_F(Hostile, ASecondCommandIntoTheSameFolderIsRefused) {
         << r.output;
     EXPECT_FALSE(fs::exists(out_ / littoral::OutputFolderLock::kFileName));
     EXPECT_TRUE(fs::exists(out_ / "scene.json"));
+
+    // A killed owner that nobody has reaped yet (a zombie: in a container, PID 1 may never reap a
+    // command whose mpirun was stopped) no longer writes: its lock is taken over too.
+    const pid_t zombie = fork();
+    if (zombie == 0) _exit(0);
+    ASSERT_GT(zombie, 0);
+    const fs::path stat = "/proc/" + std::to_string(zombie) + "/stat";
+    for (int i = 0; i < 2000 && fileText(stat).find(") Z") == std::string::npos; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_NE(fileText(stat).find(") Z"), std::string::npos) << "the child did not become a zombie";
+    writeTextFile(out_, littoral::OutputFolderLock::kFileName, std::to_string(zombie) + "\n");
+    fs::create_directories(out_ / "again");
+    writeTextFile(out_ / "again", littoral::OutputFolderLock::kFileName, std::to_string(zombie) + "\n");
+    r = runLittoral("build " + q(dir_ / "scene.yaml") + " --out " + q(out_ / "again"));
+    waitpid(zombie, nullptr, 0);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(contains(r.output, "taking over the lock of process " + std::to_string(zombie) + ", which no longer runs"))
+        << r.output;
+    EXPECT_FALSE(fs::exists(out_ / "again" / littoral::OutputFolderLock::kFileName));
 }
 
 TEST_F(Hostile, TwoConcurrentRunsNeverMixTheirOutputs) {

@@ -160,6 +160,10 @@ protected:
         ASSERT_TRUE(fs::exists(out / state)) << "the render finished before it was stopped";
         // Stopped: no image was written (the interrupted ranks removed their partial outputs).
         EXPECT_FALSE(fs::exists(out / "nadir.exr"));
+        // mpirun may exit before its ranks have: a user would wait for rank 0 to release the folder
+        // (at most 30 s here; a lock left by a rank killed outright is taken over by the resume).
+        for (int i = 0; i < 3000 && fs::exists(out / ".littoral.lock"); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
         r = runOnRanks(3, "-q render " + ir.string() + " --out " + out.string() + " --resume");
         ASSERT_EQ(r.status, 0) << r.output;
         expectSameFiles(dir_ / "one", out);
