@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // The surface must be flat: a wave mesh is not horizontally homogeneous. A Cox-Munk roughness is
-// taken in its isotropic form (slopes: isotropic), without shadowing (docs/column.md); the result is
+// taken in its isotropic form (slopes: isotropic), with Smith's light-side normalisation (each ray
+// meets one facet; shadowing: smith-light, the default; docs/column.md); the result is
 // the total mean-square slope, 0 for a flat surface.
 double checkSurface(const scenegen::SceneSpec& spec, std::vector<std::string>* notes) {
     if (!spec.waterSurface) return 0.0;  // the default: flat
@@ -39,9 +40,11 @@ double checkSurface(const scenegen::SceneSpec& spec, std::vector<std::string>* n
             .fail("littoral column solves the isotropic Cox-Munk surface only: give slopes: isotropic (sigma^2 = 0.003 + "
                   "0.00512 U); the anisotropic upwind/crosswind distribution couples the azimuthal Fourier modes, which "
                   "the column solves one at a time (use littoral run for it)");
-    if (rough->shadowing != MicrofacetShadowing::None)
-        r["shadowing"].fail("littoral column's rough surface has no shadowing term (each ray meets one facet and keeps "
-                            "its energy, docs/column.md); remove 'shadowing' or give shadowing: none");
+    if (rough->shadowing != MicrofacetShadowing::SmithLight)
+        r["shadowing"].fail(fmt::format("littoral column's rough surface is Smith's light-side normalisation (each ray meets "
+                                        "one facet, reflectance + transmittance = 1, docs/column.md), not shadowing: {}; "
+                                        "remove 'shadowing' or give shadowing: smith-light",
+                                        nameOf(rough->shadowing)));
     notes->push_back(fmt::format("rough surface: isotropic Cox-Munk slopes, U = {} m/s, sigma^2 = {:.5f}; wind direction "
                                  "ignored (isotropic)", rough->windSpeed, coxMunkCleanTotalMss(rough->windSpeed)));
     return coxMunkCleanTotalMss(rough->windSpeed);

@@ -142,6 +142,9 @@ int main(int argc, char** argv) {
         g.quiet = true;
         Progress::setEnabled(false);
     }, "No progress output");
+    app.add_flag_callback("-v,--verbose", [] {
+        if (log::level() > log::Level::Debug && log::level() != log::Level::Quiet) log::setLevel(log::Level::Debug);
+    }, "Also print diagnostic detail (for example why each probe value took the method it did)");
     app.add_option_function<std::string>(
            "--max-memory", [](const std::string& v) { setMemoryBudget(parseByteSize(v)); },
            "Memory budget: inputs that would need more (image size x bands, photons, grids, file headers) are "

@@ -24,6 +24,7 @@ namespace {
 // Random-stream passes of the forward tallies: far from the photon maps' (pass x 64 + band).
 constexpr uint64_t kForwardPassBase = 1ull << 20;
 constexpr uint64_t kForwardPilotPassBase = 1ull << 21;  // the pilot's (render/probes.cpp)
+constexpr uint64_t kPilotStageStride = 1ull << 19;      // between the pilot's two stages
 constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in chunk order)
 // Weight window of the tallies' roulette: photons lose power by the albedo at each collision and
 // play roulette only below a quarter, so that each one crosses the deep planes with its weight
@@ -270,17 +271,19 @@ struct Batches {
 // The tallies of one band group: per chunk, per level and tally, the band sums (scaled to
 // irradiance); photons cut at max_bounces are added to *cuts. Shared by the ranks.
 std::vector<std::vector<Spec>> tallyGroup(const Scene& scene, const EstimatorSet& estimators, BandGroup g,
-                                          const std::vector<Level>& levels, const Batches& bt, bool pilot,
+                                          const std::vector<Level>& levels, const Batches& bt, const ForwardTallyRun& run,
                                           tbb::task_arena& arena, Progress* progress, uint64_t* cuts) {
+    const bool pilot = run.pilot;
     const RenderConfig& cfg = estimators.config();
     PhotonPassSettings ps;
     ps.seed = scene.ir().render.seed;
-    ps.pass = (pilot ? kForwardPilotPassBase : kForwardPassBase) + static_cast<uint64_t>(estimators.pass()) * 64 +
-              static_cast<uint64_t>(g.begin);
+    ps.pass = (pilot ? kForwardPilotPassBase + static_cast<uint64_t>(run.pilotStage) * kPilotStageStride : kForwardPassBase) +
+              static_cast<uint64_t>(estimators.pass()) * 64 + static_cast<uint64_t>(g.begin);
     ps.maxBounces = cfg.maxBounces;
     ps.maxSpecularDepth = cfg.maxSpecularDepth;
     ps.importance = false;
     ps.rouletteBelow = kRouletteBelow;
+    ps.depthImportance = DepthImportance::fromProfile(run.profile);
     const ObservedPhotons tracer(scene, g, ps);
     const PhotonSource& src = tracer.source();
     const double scale = src.area > 0 ? src.meanFlux / src.area : 0.0;  // W um^-1 m^-2 per unit relative power
@@ -345,7 +348,7 @@ ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimator
     uint64_t cuts = 0;
     for (size_t gi = 0; gi < estimators.size(); ++gi) {
         const BandGroup g = estimators.groups()[gi];
-        const auto chunkSums = tallyGroup(scene, estimators, g, plan.levels, bt, run.pilot, arena, progress.get(), &cuts);
+        const auto chunkSums = tallyGroup(scene, estimators, g, plan.levels, bt, run, arena, progress.get(), &cuts);
         for (size_t v = 0; v < values; ++v) {
             std::vector<Spec> sums(chunkSums.size());
             for (size_t c = 0; c < chunkSums.size(); ++c) sums[c] = chunkSums[c][v];
@@ -358,6 +361,13 @@ ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimator
         log::warn("{} of the forward probe tallies' {} photons reached render.max_bounces = {} with power left and were "
                   "ended: the probes' irradiances are low. Raise render.max_bounces",
                   cuts, traced, cfg.maxBounces);
+    for (size_t k = 0; k < plan.levels.size(); ++k) {
+        const ProbeValue& od = tallied[k * kTallies + kEod];
+        const ProbeValue& ou = tallied[k * kTallies + kEou];
+        double eo = 0;
+        for (int b = 0; b < nb; ++b) eo += (od.mean[b] + ou.mean[b]) / nb;
+        profile_.emplace_back(plan.levels[k].z, eo);
+    }
     for (const auto& [i, q, k] : plan.asked) {
         const ir::Probe& p = ir.probes[static_cast<size_t>(i)];
         ProbeValue v = tallied[k * kTallies + static_cast<size_t>(tallyOf(q))];

@@ -47,8 +47,13 @@ std::string horizontalInvarianceProblem(const ir::SceneIR& ir);
 struct ForwardTallyRun {
     uint64_t photons = 0;  // 0: render.probe_photons
     bool pilot = false;    // the pilot's own random streams (render/probes.cpp), no progress bar
+    int pilotStage = 0;    // the pilot's stage (0 unsplit, 1 split by depth): streams of its own
     // The (probe index, quantity) pairs to answer; empty: every one the tallies answer.
     std::set<std::pair<int, std::string>> only;
+    // A pilot's scalar irradiance at its planes, (z, Eo): the photons are split by depth with the
+    // importance 1 / Eo (render/photon_pass.h, DepthImportance); empty (or fewer than two planes
+    // with light): no splitting.
+    std::vector<std::pair<double, double>> profile;
 };
 
 class ForwardTallies {
@@ -60,9 +65,13 @@ public:
     std::vector<std::pair<int, std::string>> answered() const;
     // The value of quantity `q` of probe `index` (into ir.probes), or nullptr.
     const ProbeValue* find(int index, const std::string& q) const;
+    // The scalar irradiance Eod + Eou (band mean) at every plane traced, (z, Eo): what a pilot hands
+    // to the full run as ForwardTallyRun::profile.
+    const std::vector<std::pair<double, double>>& profile() const { return profile_; }
 
 private:
     std::map<std::pair<int, std::string>, ProbeValue> values_;
+    std::vector<std::pair<double, double>> profile_;
 };
 
 }  // namespace littoral::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -50,27 +51,50 @@ public:
                PhotonObserver* observer = nullptr) const;
 
 private:
+    // Where a photon is, and its counts: what a walk carries, and what a copy starts from.
+    struct State {
+        Ray ray;
+        Spec w;
+        int medium = 0, events = 0, specular = 0, wraps = 0;
+    };
+    using Pending = std::vector<State>;  // copies still to walk (splitting by depth)
+
+    // The importance at height z (1 without splitting by depth).
+    double importance(double z) const {
+        return st_.depthImportance.empty() ? 1.0 : st_.depthImportance.at(z);
+    }
     // Russian roulette on the photon's power, as a weight window: a photon whose largest band
-    // power is below st_.rouletteBelow survives with probability max / rouletteBelow and is scaled
-    // up by its inverse (unbiased). One number is drawn always, so that the streams do not depend
-    // on the threshold's outcome.
-    bool roulette(Spec& w, RandomStream& rng) const {
-        const double u = rng.uniform(), m = w.maxValue();
+    // power, times the importance at height z, is below st_.rouletteBelow survives with probability
+    // max I / rouletteBelow and is scaled up by its inverse (unbiased). One number is drawn always,
+    // so that the streams do not depend on the threshold's outcome.
+    bool roulette(Spec& w, RandomStream& rng, double z) const {
+        const double u = rng.uniform(), m = w.maxValue() * importance(z);
         if (m >= st_.rouletteBelow) return true;
         const double q = m / st_.rouletteBelow;
         if (u >= q || !(q > 0)) return false;
         w *= 1.0 / q;
         return true;
     }
-    // A collision in a scattering medium: stores the event (MediumPM media) and turns the photon.
-    // False if the photon ends.
-    bool scatter(Ray& ray, const FreeFlight& ff, int medium, int& events, Spec& w, RandomStream& rng,
-                 ChunkResult& out, PhotonObserver* observer) const;
+    // How many copies a collision at height z makes of a photon of power w (splitting by depth).
+    int splitCount(const Spec& w, double z) const {
+        if (st_.depthImportance.empty()) return 1;
+        const double v = w.maxValue() * importance(z);
+        return v >= 2.0 ? static_cast<int>(std::min<double>(std::floor(v), st_.maxSplit)) : 1;
+    }
+    // A collision in a scattering medium: stores the event (MediumPM media), splits the photon by
+    // depth (the copies go to `pending`) and turns it. False if the photon ends.
+    bool scatter(State& s, const FreeFlight& ff, RandomStream& rng, ChunkResult& out, PhotonObserver* observer,
+                 Pending& pending) const;
+    // Turns a photon of power w at x (stores it first where its medium keeps a volume map); then the
+    // roulette. False if it ends.
+    bool turn(State& s, const Point3& x, int layer, RandomStream& rng, ChunkResult& out) const;
     // A diffuse vertex: stores the photon (SurfacePM materials) and reflects it. False if it ends.
-    bool reflectDiffuse(Ray& ray, const SurfaceHit& h, int medium, int& events, Spec& w, RandomStream& rng,
-                        ChunkResult& out, PhotonObserver* observer) const;
-    // The photon's walk from its emission until it ends.
+    bool reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& rng, ChunkResult& out,
+                        PhotonObserver* observer) const;
+    // The photon's walk from its emission until it ends, with every copy it splits into.
     void walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const;
+    // One copy's walk from `s` until it ends.
+    void walkFrom(State s, RandomStream& rng, ChunkResult& out, PhotonObserver* observer, Pending& pending) const;
 
     const Scene& scene_;
     BandGroup g_;
@@ -79,42 +103,53 @@ private:
     InteractionStep step_;
 };
 
-bool PhotonTracer::scatter(Ray& ray, const FreeFlight& ff, int medium, int& events, Spec& w, RandomStream& rng,
-                           ChunkResult& out, PhotonObserver* observer) const {
-    static const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
-    if (w.isBlack()) return false;
-    const Point3 x = ray.at(ff.t);
-    if (observer) observer->collision(x, ray.d, medium, ff.layer, w);
-    if (++events > st_.maxBounces) {
-        if (observer) observer->cut(w);
+bool PhotonTracer::scatter(State& s, const FreeFlight& ff, RandomStream& rng, ChunkResult& out,
+                           PhotonObserver* observer, Pending& pending) const {
+    if (s.w.isBlack()) return false;
+    const Point3 x = s.ray.at(ff.t);
+    if (observer) observer->collision(x, s.ray.d, s.medium, ff.layer, s.w);
+    if (++s.events > st_.maxBounces) {
+        if (observer) observer->cut(s.w);
         return false;
     }
-    const Medium& md = scene_.media()[static_cast<size_t>(medium)];
-    Spec pw;
-    const Vec3 wi = md.samplePhase(ff.layer, g_, ray.d, rng, &pw);
-    const bool forward = st_.effectiveScattering && dot(wi, ray.d) > cosCone;
-    if (!forward && st_.volumeMedium[static_cast<size_t>(medium)]) out.volume.add(x, ray.d, Vec3{0, 0, 1}, w);
-    if (!forward) {
-        w *= pw;
-        ray = Ray{x, wi};
-    } else {
-        ray = Ray{x, ray.d};
+    if (const int n = splitCount(s.w, x.z); n > 1) {
+        s.w *= 1.0 / n;
+        for (int c = 1; c < n; ++c) {
+            State copy = s;
+            if (turn(copy, x, ff.layer, rng, out)) pending.push_back(copy);
+        }
     }
-    return roulette(w, rng);
+    return turn(s, x, ff.layer, rng, out);
 }
 
-bool PhotonTracer::reflectDiffuse(Ray& ray, const SurfaceHit& h, int medium, int& events, Spec& w, RandomStream& rng,
-                                  ChunkResult& out, PhotonObserver* observer) const {
+bool PhotonTracer::turn(State& s, const Point3& x, int layer, RandomStream& rng, ChunkResult& out) const {
+    static const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
+    const Medium& md = scene_.media()[static_cast<size_t>(s.medium)];
+    Spec pw;
+    const Vec3 wi = md.samplePhase(layer, g_, s.ray.d, rng, &pw);
+    const bool forward = st_.effectiveScattering && dot(wi, s.ray.d) > cosCone;
+    if (!forward && st_.volumeMedium[static_cast<size_t>(s.medium)]) out.volume.add(x, s.ray.d, Vec3{0, 0, 1}, s.w);
+    if (!forward) {
+        s.w *= pw;
+        s.ray = Ray{x, wi};
+    } else {
+        s.ray = Ray{x, s.ray.d};
+    }
+    return roulette(s.w, rng, x.z);
+}
+
+bool PhotonTracer::reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& rng, ChunkResult& out,
+                                  PhotonObserver* observer) const {
     const Spec rho = scene_.albedo(h, g_);
-    if (observer) observer->diffuse(h, medium, rho, w);
+    if (observer) observer->diffuse(h, s.medium, rho, s.w);
     const Normal3 n = h.front ? h.ng : -h.ng;
-    if (st_.surfaceMaterial[static_cast<size_t>(scene_.materialIndex(h))]) out.surface.add(h.p, ray.d, n, w);
-    if (rho.isBlack() || ++events > st_.maxBounces) return false;
-    w *= rho;
-    if (!roulette(w, rng)) return false;
+    if (st_.surfaceMaterial[static_cast<size_t>(scene_.materialIndex(h))]) out.surface.add(h.p, s.ray.d, n, s.w);
+    if (rho.isBlack() || ++s.events > st_.maxBounces) return false;
+    s.w *= rho;
+    if (!roulette(s.w, rng, h.p.z)) return false;
     const Frame frame = Frame::fromNormal(n);
     const double v1 = rng.uniform(), v2 = rng.uniform();
-    ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(sampleCosineHemisphere(v1, v2))));
+    s.ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(sampleCosineHemisphere(v1, v2))));
     return true;
 }
 
@@ -131,40 +166,50 @@ void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImporta
 }
 
 void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const {
-    int medium = 0, events = 0, specular = 0, wraps = 0;
+    Pending pending;  // allocates only when a photon splits
+    walkFrom(State{ray, w}, rng, out, observer, pending);
+    while (!pending.empty()) {
+        const State s = pending.back();
+        pending.pop_back();
+        walkFrom(s, rng, out, observer, pending);
+    }
+}
+
+void PhotonTracer::walkFrom(State s, RandomStream& rng, ChunkResult& out, PhotonObserver* observer,
+                            Pending& pending) const {
     for (;;) {
         SurfaceHit h;
         bool hit;
-        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+        const Medium& md = scene_.media()[static_cast<size_t>(s.medium)];
         if (md.scattering()) {
             // The free flight first, then the geometry only up to it (Scene::flightToSurface).
             const double uBand = rng.uniform(), uDist = rng.uniform();
-            const FreeFlight ff = scene_.flightToSurface(ray, medium, g_, uBand, uDist, &h, &hit);
-            if (observer) observer->flight(ray, ff.scattered ? ff.t : hit ? h.t : ir::kInfinity, medium, w, true);
-            w *= ff.weight;
+            const FreeFlight ff = scene_.flightToSurface(s.ray, s.medium, g_, uBand, uDist, &h, &hit);
+            if (observer) observer->flight(s.ray, ff.scattered ? ff.t : hit ? h.t : ir::kInfinity, s.medium, s.w, true);
+            s.w *= ff.weight;
             if (ff.scattered) {
-                if (!scatter(ray, ff, medium, events, w, rng, out, observer)) return;
+                if (!scatter(s, ff, rng, out, observer, pending)) return;
                 continue;
             }
-            if (w.isBlack()) return;
+            if (s.w.isBlack()) return;
         } else if (md.attenuating()) {
-            hit = scene_.geometry().intersect(ray, &h);
+            hit = scene_.geometry().intersect(s.ray, &h);
             if (!hit) return;
-            if (observer) observer->flight(ray, h.t, medium, w, false);
-            w *= md.transmittance(ray, h.t, g_);
+            if (observer) observer->flight(s.ray, h.t, s.medium, s.w, false);
+            s.w *= md.transmittance(s.ray, h.t, g_);
         } else {
-            hit = scene_.geometry().intersect(ray, &h);
-            if (observer) observer->flight(ray, hit ? h.t : ir::kInfinity, medium, w, false);
+            hit = scene_.geometry().intersect(s.ray, &h);
+            if (observer) observer->flight(s.ray, hit ? h.t : ir::kInfinity, s.medium, s.w, false);
         }
         if (!hit) return;
         if (scene_.isPeriodicWall(h)) {
-            const auto next = step_.wrap(h, ray.d, &wraps);
+            const auto next = step_.wrap(h, s.ray.d, &s.wraps);
             if (!next) {
                 static StatCounter& lost = statCounter("photons lost at periodic walls");
                 lost.add();
                 return;
             }
-            ray = *next;
+            s.ray = *next;
             continue;
         }
         const BxDF bxdf = scene_.bxdf(h, g_);
@@ -172,16 +217,44 @@ void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, Ph
             // Interfaces, smooth or rough: one direction sampled from the BxDF in importance mode,
             // weighted by f |cos| / pdf (1 for the smooth one; for the rough one the fraction of its
             // weight a single-scattering microfacet model keeps).
-            const Interaction it = step_.atInterface(ray, h, bxdf, SunChain{}, &specular, 0, rng, nullptr);
+            const Interaction it = step_.atInterface(s.ray, h, bxdf, SunChain{}, &s.specular, 0, rng, nullptr);
             if (it.kind != Interaction::Kind::Continued) return;
-            w *= it.out[0].weight;
-            medium = it.out[0].medium;
-            ray = it.out[0].ray;
+            s.w *= it.out[0].weight;
+            s.medium = it.out[0].medium;
+            s.ray = it.out[0].ray;
             continue;
         }
         InteractionStep::requireDiffuse(bxdf);
-        if (!reflectDiffuse(ray, h, medium, events, w, rng, out, observer)) return;
+        if (!reflectDiffuse(s, h, rng, out, observer)) return;
     }
+}
+
+double DepthImportance::at(double height) const {
+    if (z.empty()) return 1.0;
+    if (height >= z.front()) return std::exp(logI.front());
+    if (height <= z.back()) return std::exp(logI.back());
+    // z descending: the first point at or below `height`.
+    const size_t k = static_cast<size_t>(std::upper_bound(z.begin(), z.end(), height, std::greater<double>()) - z.begin());
+    const double t = (z[k - 1] - height) / (z[k - 1] - z[k]);
+    return std::exp(logI[k - 1] + t * (logI[k] - logI[k - 1]));
+}
+
+DepthImportance DepthImportance::fromProfile(std::vector<std::pair<double, double>> profile, double exponent,
+                                             double maxImportance) {
+    profile.erase(std::remove_if(profile.begin(), profile.end(),
+                                 [](const auto& p) { return !(p.second > 0) || !std::isfinite(p.second) || !std::isfinite(p.first); }),
+                  profile.end());
+    std::sort(profile.begin(), profile.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    profile.erase(std::unique(profile.begin(), profile.end(), [](const auto& a, const auto& b) { return a.first == b.first; }),
+                  profile.end());
+    DepthImportance d;
+    if (profile.size() < 2) return d;
+    const double top = profile.front().second, lo = std::log(1e-2), hi = std::log(maxImportance);
+    for (const auto& [z, e] : profile) {
+        d.z.push_back(z);
+        d.logI.push_back(std::clamp(exponent * std::log(top / e), lo, hi));
+    }
+    return d;
 }
 
 ObservedPhotons::ObservedPhotons(const Scene& scene, BandGroup g, const PhotonPassSettings& settings)

@@ -42,6 +42,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/rng.h"
@@ -50,6 +51,26 @@
 #include "render/scene.h"
 
 namespace littoral::render {
+
+// Splitting by depth (the forward probe tallies' photons, ObservedPhotons; the photon maps use
+// none). I(z) is the importance of a photon at height z: log-linear between the points given, and
+// constant beyond the first and the last. At each collision a photon whose largest band power w
+// carries v = w I(z) >= 2 is split into n = min(floor(v), maxSplit) copies of power w / n, each
+// turned by its own phase-function sample and walked on its own (from the same random stream, in a
+// fixed order, so that results stay independent of threads and ranks); and the roulette's window
+// becomes rouletteBelow / I(z). A copy is an independent continuation of the same photon, and a
+// survivor of the roulette (probability q) carries 1 / q, so every expectation is kept whatever I
+// is: the tallies stay unbiased. With I ~ 1 / Eo(z) (the pilot's scalar irradiance) the photons'
+// number stays near constant with depth, and deep planes are crossed as often as shallow ones.
+struct DepthImportance {
+    std::vector<double> z, logI;  // z descending (the shallowest point first)
+    bool empty() const { return z.empty(); }
+    double at(double height) const;
+    // I = (Eo(shallowest) / Eo(z))^exponent, clamped to [1e-2, maxImportance], from (z, Eo) pairs of
+    // one medium (points with Eo <= 0 or not finite are left out; fewer than 2 left: empty).
+    static DepthImportance fromProfile(std::vector<std::pair<double, double>> profile, double exponent = 1.0,
+                                       double maxImportance = 1e4);
+};
 
 struct PhotonPassSettings {
     uint64_t surfaceTarget = 0;     // photons to store in the surface map (0: no surface map)
@@ -64,6 +85,8 @@ struct PhotonPassSettings {
     // below this survives with probability power / rouletteBelow. 1 keeps every stored photon near
     // the same flux (the maps); a lower window lets weighted photons tally longer (ObservedPhotons).
     double rouletteBelow = 1.0;
+    DepthImportance depthImportance;  // splitting by depth (above); empty: none
+    int maxSplit = 16;                // copies of one collision at the most
     double cellSize = 0.4;          // grid cell of the built maps (the search radius)
     int threads = 0;
     bool progress = true;

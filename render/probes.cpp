@@ -351,19 +351,25 @@ bool disagree(const ProbeValue& a, const ProbeValue& b) {
 //    adds a bounded weight, so the forward pilot's spread is honest; backward paths in deep or
 //    forward-peaked water are heavy-tailed, and a small pilot that has not met their rare large
 //    values reports an error far too small (measured: 0.1 % predicted, 36 % at the full budget).
-// Returns the (probe, quantity) pairs that go forward.
+// Returns the (probe, quantity) pairs that go forward; *profile receives the pilot's scalar
+// irradiance at its planes (the full run splits its photons by depth with it).
 std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const EstimatorSet& estimators,
-                                                    const RenderOptions& opts) {
+                                                    const RenderOptions& opts, std::vector<std::pair<double, double>>* profile) {
     const RenderConfig& cfg = estimators.config();
     std::set<std::pair<int, std::string>> chosen;
     if (cfg.estimator != ir::Estimator::Path || cfg.probePhotons == 0) return chosen;
     const int B = cfg.probeBatches;
+    // The forward pilot in two stages of 1/32 each: unsplit, for the depth profile; then split by
+    // depth with it, as the full run will be, for the prediction (and a better profile for the run).
     ForwardTallyRun pilotRun;
-    pilotRun.photons = std::max<uint64_t>(static_cast<uint64_t>(B), cfg.probePhotons / 16);
+    pilotRun.photons = std::max<uint64_t>(static_cast<uint64_t>(B), cfg.probePhotons / 32);
     pilotRun.pilot = true;
     RenderOptions quiet = opts;
     quiet.progress = false;
+    pilotRun.profile = ForwardTallies(scene, estimators, quiet, pilotRun).profile();
+    pilotRun.pilotStage = 1;
     const ForwardTallies pilot(scene, estimators, quiet, pilotRun);
+    *profile = pilot.profile();
     const auto& probes = scene.ir().probes;
     for (const auto& [i, q] : pilot.answered()) {
         const ir::Probe& probe = probes[static_cast<size_t>(i)];
@@ -383,8 +389,12 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
         else if (disagree(f, b))
             forward = true, why = "the pilots disagree, and backward paths here are heavy-tailed: " + why;
         if (forward) chosen.insert({i, q});
-        log::info("probe {} {}: {} ({})", probe.name, q, forward ? "forward" : "backward", why);
+        log::debug("probe {} {}: {} ({})", probe.name, q, forward ? "forward" : "backward", why);
     }
+    if (!pilot.answered().empty())
+        log::info("probe methods: the pilot chose forward tallies for {} and backward paths for {} of the {} probe "
+                  "values they could answer (the reasons: --verbose; the methods: probes.csv)",
+                  chosen.size(), pilot.answered().size() - chosen.size(), pilot.answered().size());
     return chosen;
 }
 
@@ -418,7 +428,7 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
 
 std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
     ForwardTallyRun run;
-    run.only = chooseForward(scene, estimators, opts);
+    run.only = chooseForward(scene, estimators, opts, &run.profile);
     const ForwardTallies forward = run.only.empty() ? ForwardTallies() : ForwardTallies(scene, estimators, opts, run);
     std::vector<ProbeValue> out;
     const auto& probes = scene.ir().probes;

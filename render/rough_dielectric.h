@@ -27,9 +27,11 @@
 // makes f_importance(wo, wi) = f_radiance(wi, wo), the adjoint BSDF (Veach 1997, ch. 5).
 //
 // Shadowing-masking term G (MicrofacetShadowing, core/cox_munk_fit.h):
-//   None            G = 1: Eq. 5.4 and the dissertation's analytic predictions (the default).
+//   None            G = 1: Eq. 5.4 and the dissertation's analytic predictions (this struct's
+//                   default, for those tests; it gains energy toward grazing incidence, below).
 //   SmithLight      G = G1(direction the light arrives from): G1(wi) in Radiance mode, G1(wo) in
-//                   Importance mode; the adjoint relation above holds for it.
+//                   Importance mode; the adjoint relation above holds for it. The scene's default
+//                   (core/scene_ir.h), and the column solver's surface (column/rough_surface.h).
 //   SmithSeparable  G = G1(wo) G1(wi) (Walter eq. 23): reciprocal, loses the light that a second
 //                   bounce between facets would return.
 // Energy. Light of unit flux arriving from direction l falls on facets m with projected density

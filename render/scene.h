@@ -56,7 +56,7 @@ struct MaterialData {
     // normalisation is a quadrature), in the frame whose x axis is the downwind direction
     // (windAzimuth 0); `downwind` is that direction in the world (horizontal, unit).
     std::optional<CoxMunkDistribution> slopes;
-    MicrofacetShadowing shadowing = MicrofacetShadowing::None;
+    MicrofacetShadowing shadowing = MicrofacetShadowing::SmithLight;
     Vec3 downwind{1, 0, 0};
     // Classified: the class map, and per raster value the index of the material it names (-1: the
     // value does not occur). Scene::materialIndex resolves a hit through it.

@@ -191,7 +191,7 @@ std::optional<ir::Material> parseSurfaceRoughness(const YamlNode& n, const surfa
                                                nameOf(m.sea)));
     m.slopes = *parseName<CoxMunkSlopes>(r->getEnum("slopes", "anisotropic", allNames<CoxMunkSlopes>()));
     if (const std::string why = coxMunkSlopesProblem(m.slopes, m.sea, m.gramCharlier); !why.empty()) (*r)["slopes"].fail(why);
-    m.shadowing = *parseName<MicrofacetShadowing>(r->getEnum("shadowing", "none", allNames<MicrofacetShadowing>()));
+    m.shadowing = *parseName<MicrofacetShadowing>(r->getEnum("shadowing", "smith-light", allNames<MicrofacetShadowing>()));
     return m;
 }
 

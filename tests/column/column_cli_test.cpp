@@ -103,9 +103,12 @@ water:
 )";
     const std::pair<std::string, std::string> cases[] = {
         {base + "  surface: {model: flat, roughness: {wind_speed_m_s: 5}}\n", "refused.yaml:6:"},
-        // The anisotropic (default) Cox-Munk form and shadowing are refused at their keys.
+        // The anisotropic (default) Cox-Munk form, and shadowing other than the default smith-light
+        // (the column's one-facet normalisation), are refused at their keys.
         {base + "  surface: {model: flat, roughness: {wind_speed: 5}}\n", "refused.yaml:6:"},
-        {base + "  surface: {model: flat, roughness: {wind_speed: 5, slopes: isotropic, shadowing: smith-light}}\n",
+        {base + "  surface: {model: flat, roughness: {wind_speed: 5, slopes: isotropic, shadowing: none}}\n",
+         "refused.yaml:6:"},
+        {base + "  surface: {model: flat, roughness: {wind_speed: 5, slopes: isotropic, shadowing: smith-separable}}\n",
          "refused.yaml:6:"},
         {base + "bathymetry: {type: planar_slope, z0_m: -5, slope_x: 0.1, material: sand}\nmaterials: [{name: sand, reflectance: 0.2}]\n",
          "refused.yaml:6:"},

@@ -257,3 +257,27 @@ TEST(PhotonEmission, EmittedPowerIntegratesToTheSourceFlux) {
         EXPECT_NEAR(mean, flux, 4 * se) << b;
     }
 }
+
+// Splitting by depth (render/photon_pass.h, DepthImportance): the importance from a pilot's scalar
+// irradiance profile is Eo(shallowest) / Eo(z), log-linear between the planes (exact for an
+// exponential profile), constant beyond them, clamped, and empty when fewer than two planes saw
+// light. Values derived by hand from the profile below.
+TEST(DepthImportance, FollowsTheInverseProfileBetweenThePlanes) {
+    // Eo = e^{0.2 z} down to 10 m (K = 0.2 m^-1), then e^{-2 - 0.05 (|z| - 10)}; one plane saw nothing.
+    const DepthImportance d = DepthImportance::fromProfile(
+        {{-10, std::exp(-2.0)}, {-1, std::exp(-0.2)}, {-30, std::exp(-3.0)}, {-20, 0.0}});
+    ASSERT_EQ(d.z.size(), 3u);
+    EXPECT_DOUBLE_EQ(d.at(0.0), 1.0);   // above the shallowest plane: its importance, 1
+    EXPECT_DOUBLE_EQ(d.at(-1.0), 1.0);
+    EXPECT_NEAR(d.at(-5.5), std::exp(0.2 * 4.5), 1e-12);              // within the first span: e^{K dz}
+    EXPECT_NEAR(d.at(-10.0), std::exp(1.8), 1e-12);
+    EXPECT_NEAR(d.at(-20.0), std::exp(1.8 + 0.05 * 10), 1e-12);         // the empty plane was left out
+    EXPECT_NEAR(d.at(-60.0), std::exp(2.8), 1e-12);                     // below the deepest: constant
+    // The exponent and the clamp.
+    const DepthImportance h = DepthImportance::fromProfile({{-1, 1.0}, {-50, 1e-12}}, 0.5, 1e4);
+    EXPECT_NEAR(h.at(-50.0), 1e4, 1e-6);
+    const DepthImportance up = DepthImportance::fromProfile({{-1, 1.0}, {-5, 1e6}});  // a bright floor below
+    EXPECT_NEAR(up.at(-5.0), 1e-2, 1e-15);
+    EXPECT_TRUE(DepthImportance::fromProfile({{-1, 1.0}, {-5, 0.0}}).empty());
+    EXPECT_DOUBLE_EQ(DepthImportance{}.at(-3.0), 1.0);
+}
