@@ -386,7 +386,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         if (probesToo) probes = evaluateProbes(scene, estimators, ro);
         accumulate(state, images, probes);
         if (passes > 1) {
-            log::info("progressive pass {} of {} done", pass, passes);
+            if (opts.progress) log::info("progressive pass {} of {} done", pass, passes);  // progress: not under --quiet
             if (pass < passes && isRootRank()) saveCheckpoint(ckptDir, state, shape);  // rank 0 holds the images
         }
         if (pass == passes) finish(state, &res.images, &res.probes, images, probes);

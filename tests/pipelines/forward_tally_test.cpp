@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/probe_table.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -23,27 +24,7 @@ namespace {
 
 fs::path sceneFile(const std::string& rel) { return fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / rel; }
 
-struct Cell {
-    double value = 0, se = 0;
-    std::string method;
-    long long samples = 0;
-};
-using Probes = std::map<std::string, std::map<std::string, Cell>>;  // probe -> quantity -> cell
-
-Probes readProbes(const fs::path& dir) {
-    Probes p;
-    std::ifstream in(dir / "probes.json");
-    if (!in) {
-        ADD_FAILURE() << "no probes.json in " << dir;
-        return p;
-    }
-    const auto j = nlohmann::json::parse(in);
-    for (const auto& v : j["probes"])
-        p[v["probe"].get<std::string>()][v["quantity"].get<std::string>()] =
-            Cell{v["value"][0].get<double>(), v["stderr"][0].get<double>(), v["method"].get<std::string>(),
-                 v["samples"].get<long long>()};
-    return p;
-}
+using Probes = ProbeTable;
 
 // `littoral run` on `yaml` (text) with 2 threads; its probes (and in `output`, what it printed).
 Probes runProbes(const std::string& name, const std::string& yaml, const std::string& extra = "",
@@ -54,7 +35,7 @@ Probes runProbes(const std::string& name, const std::string& yaml, const std::st
                                         (dir / "out").string() + " --threads 2 " + extra);
     EXPECT_EQ(r.status, 0) << r.output;
     if (output) *output = r.output;
-    return readProbes(dir / "out");
+    return readProbeTable(dir / "out");
 }
 
 std::string readText(const fs::path& f) {
@@ -91,7 +72,7 @@ void expectColumnAgreement(const Probes& p, const fs::path& scene, const std::ma
         for (const std::string& qs : quantities) {
             const char* q = qs.c_str();
             ASSERT_TRUE(p.count(probe) && p.at(probe).count(q)) << probe << " " << q;
-            const Cell& c = p.at(probe).at(q);
+            const ProbeCell& c = p.at(probe).at(q);
             ASSERT_TRUE(base.count(z) && fine.count(z)) << scene << " depth " << z;
             const double v = base.at(z).at(q), conv = std::abs(fine.at(z).at(q) - v);
             EXPECT_NEAR(c.value, v, 3 * c.se + conv) << scene.filename() << " " << probe << " " << q;
@@ -261,7 +242,7 @@ TEST(ForwardTallies, ApplyOnlyToHorizontallyInvariantScenes) {
     const CommandResult ran = runLittoral("-q run " + (dir / "boxed_default.yaml").string() + " --out " +
                                           (dir / "boxed_out").string() + " --threads 2");
     ASSERT_EQ(ran.status, 0) << ran.output;
-    for (const auto& [probe, qs] : readProbes(dir / "boxed_out"))
+    for (const auto& [probe, qs] : readProbeTable(dir / "boxed_out"))
         for (const auto& [q, c] : qs) EXPECT_EQ(c.method, "backward") << probe << " " << q;
     // The column itself: forward; and with probe_photons: 0, backward.
     const Probes fwd = runProbes("invariant", column);

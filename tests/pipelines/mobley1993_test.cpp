@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipelines/reference/mobley1993.h"
+#include "tests/support/probe_table.h"
 #include "tests/support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -28,16 +29,11 @@ namespace mobley1993 = littoral::reference::mobley1993;
 
 namespace {
 
-struct ProbeCell {
-    double value = NAN, stderr_ = NAN;
-    std::string method;
-};
-
 // Runs one scene file and returns {probe name -> {quantity -> (value, stderr)}} of band 0. With
 // `backward`, render.probe_photons: 0 turns the forward irradiance tallies off, so that every
 // quantity comes from backward paths (these columns are horizontally invariant, where Ed and Eou
 // are otherwise tallied forward; render/forward_tally.h).
-std::map<std::string, std::map<std::string, ProbeCell>> runProblem(const std::string& file, bool backward = false) {
+ProbeTable runProblem(const std::string& file, bool backward = false) {
     fs::path scene = fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / "mobley1993" / file;
     const fs::path out = scratchDir("mobley1993", fs::path(file).stem().string() + (backward ? "_backward" : ""));
     if (backward) {
@@ -48,20 +44,10 @@ std::map<std::string, std::map<std::string, ProbeCell>> runProblem(const std::st
     }
     const CommandResult r = runLittoral("--quiet run " + scene.string() + " --out " + out.string());
     EXPECT_EQ(r.status, 0) << r.output;
-    std::map<std::string, std::map<std::string, ProbeCell>> cells;
-    std::ifstream in(out / "probes.json");
-    if (!in) {
-        ADD_FAILURE() << "no probes.json in " << out;
-        return cells;
-    }
-    const auto j = nlohmann::json::parse(in);
-    for (const auto& p : j["probes"])
-        cells[p["probe"].get<std::string>()][p["quantity"].get<std::string>()] =
-            ProbeCell{p["value"][0].get<double>(), p["stderr"][0].get<double>(), p["method"].get<std::string>()};
-    return cells;
+    return readProbeTable(out);
 }
 
-using Cells = std::map<std::string, std::map<std::string, ProbeCell>>;
+using Cells = ProbeTable;
 
 Cells checkProblem(const std::string& file, int problem, double w0, const std::map<double, std::string>& probeAtTau,
                    double noiseFloor = 0.01, bool backward = false) {
@@ -79,13 +65,13 @@ Cells checkProblem(const std::string& file, int problem, double w0, const std::m
             }
             const ProbeCell& c = cells.at(probe).at(q);
             const double rel = c.value / cell->mean - 1.0;
-            const double tol = mobley1993::toleranceWithRounding(*cell, c.stderr_);
-            EXPECT_LE(std::abs(rel), tol) << file << " tau " << tau << " " << q << ": " << c.value << " +- " << c.stderr_
+            const double tol = mobley1993::toleranceWithRounding(*cell, c.se);
+            EXPECT_LE(std::abs(rel), tol) << file << " tau " << tau << " " << q << ": " << c.value << " +- " << c.se
                                           << " vs " << cell->mean << " (s/mean " << cell->sOverMean << ")";
-            EXPECT_LE(c.stderr_ / c.value, std::max(cell->sOverMean, noiseFloor))
+            EXPECT_LE(c.se / c.value, std::max(cell->sOverMean, noiseFloor))
                 << file << " tau " << tau << " " << q << ": the run is too noisy to test this cell";
             std::printf("[ mobley ] %-22s tau %4.1f %-3s %.4e +- %.2e  table %.3e  diff %+6.2f %%  tol %5.2f %%\n",
-                        file.c_str(), tau, q, c.value, c.stderr_, cell->mean, 100 * rel, 100 * tol);
+                        file.c_str(), tau, q, c.value, c.se, cell->mean, 100 * rel, 100 * tol);
         }
     }
     return cells;
@@ -121,8 +107,8 @@ TEST(Mobley1993, Problem6ShallowBottom) {
     ASSERT_TRUE(cells.count("tau5"));
     const auto& b = cells.at("tau5");
     const ProbeCell ed = b.at("Ed"), eou = b.at("Eou"), lu = b.at("Lu");
-    EXPECT_NEAR(eou.value, ed.value, 3 * std::hypot(eou.stderr_, ed.stderr_));
-    EXPECT_NEAR(2 * M_PI * lu.value, ed.value, 3 * std::hypot(2 * M_PI * lu.stderr_, ed.stderr_));
+    EXPECT_NEAR(eou.value, ed.value, 3 * std::hypot(eou.se, ed.se));
+    EXPECT_NEAR(2 * M_PI * lu.value, ed.value, 3 * std::hypot(2 * M_PI * lu.se, ed.se));
 }
 
 // The same problems with the dirsig estimator's photon maps (MediumPM in the water, SurfacePM on
@@ -151,6 +137,6 @@ TEST(Mobley1993, Problem6PhotonMaps) {
     // surface map, Ed from the volume map and the direct beam, so they check the two maps
     // against each other.
     const ProbeCell ed = b.at("Ed"), eou = b.at("Eou"), lu = b.at("Lu");
-    EXPECT_NEAR(eou.value, ed.value, 3 * std::hypot(eou.stderr_, ed.stderr_));
-    EXPECT_NEAR(2 * M_PI * lu.value, ed.value, 3 * std::hypot(2 * M_PI * lu.stderr_, ed.stderr_));
+    EXPECT_NEAR(eou.value, ed.value, 3 * std::hypot(eou.se, ed.se));
+    EXPECT_NEAR(2 * M_PI * lu.value, ed.value, 3 * std::hypot(2 * M_PI * lu.se, ed.se));
 }
