@@ -251,3 +251,26 @@ TEST(ForwardTallies, ApplyOnlyToHorizontallyInvariantScenes) {
     EXPECT_EQ(bwd.at("tau1").at("Eou").method, "backward");
     EXPECT_EQ(bwd.at("tau1").at("Eou").samples, 2000);
 }
+
+// What stays backward and is known to be heavy-tailed is said at run time: Lu in Petzold water at
+// albedo 0.9 (problem 2) is warned about, with its probe; at albedo 0.2 (problem 6, where the
+// backward Lu meets the published values) it is not.
+TEST(ForwardTallies, BackwardLuInForwardPeakedHighAlbedoWaterIsWarnedAbout) {
+    const std::string p2 = replacedOnce(replacedOnce(replacedOnce(readText(sceneFile("mobley1993/problem2_albedo09.yaml")),
+                                                                  "[Ed, Eou, Lu], samples: 25000", "[Lu], samples: 2000"),
+                                                     "[Ed, Eou, Lu], samples: 80000", "[Ed]"),
+                                        "[Ed, Eou, Lu], samples: 200000", "[Ed]");
+    std::string printed;
+    const Probes p = runProbes("lu_warned", p2, "", "-q", &printed);
+    EXPECT_EQ(p.at("tau1").at("Lu").method, "backward");
+    EXPECT_NE(printed.find("warning: probe 'tau1' Lu (and any other Lu probe in this water): backward paths in water with a forward-peaked phase function "
+                           "and a single-scattering albedo of 0.90 are heavy-tailed"),
+              std::string::npos)
+        << printed;
+    EXPECT_EQ(printed.find("probe 'tau5' Lu"), std::string::npos) << printed;  // tau5 reads Ed only
+    const std::string p6 = replacedOnce(replacedOnce(readText(sceneFile("mobley1993/problem6.yaml")),
+                                                     "[Ed, Eou, Lu], samples: 40000", "[Lu], samples: 2000"),
+                                        "[Ed, Eou, Lu], samples: 200000", "[Ed]");
+    runProbes("lu_not_warned", p6, "", "-q", &printed);
+    EXPECT_EQ(printed.find("heavy-tailed"), std::string::npos) << printed;
+}
