@@ -403,23 +403,40 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
 // so a run of 10^4-10^5 paths can read low by more than its reported standard error says (Mobley et
 // al.'s problem 2, Petzold at albedo 0.9: 9-13 % low at 2.1-2.5 reported se with 25 000-200 000
 // paths). At albedo 0.2 (problem 6) they meet the published values; 0.5 is the threshold between.
-void warnIfHeavyTailedLu(const Scene& scene, const ir::Probe& probe) {
+// The band-mean albedo at the probe, or 0 where the limit does not apply.
+double heavyTailedLuAlbedo(const Scene& scene, const ir::Probe& probe) {
     const int medium = scene.mediumIndex(probe.medium, fmt::format("probe '{}' medium", probe.name));
-    if (medium <= 0) return;
+    if (medium <= 0) return 0;
     const Medium& md = scene.media()[static_cast<size_t>(medium)];
-    if (!md.scattering() || !md.forwardPeaked()) return;
+    if (!md.scattering() || !md.forwardPeaked()) return 0;
     const MediumLayer& l = md.layers()[static_cast<size_t>(md.layerAt(probe.position.z))];
     double albedo = 0;
     int n = 0;
     for (size_t b = 0; b < l.c.size(); ++b)
         if (l.c[b] > 0) albedo += l.b[b] / l.c[b], ++n;
-    if (n == 0 || albedo / n < 0.5) return;
-    if (!log::firstTime(fmt::format("heavy-tailed Lu in medium {} at albedo {:.2f}", medium, albedo / n))) return;
-    log::warn("probe '{}' Lu (and any other Lu probe in this water): backward paths in water with a forward-peaked phase function and a single-scattering "
-              "albedo of {:.2f} are heavy-tailed, and the standard error can understate the error (Mobley et al.'s "
-              "problem 2, albedo 0.9: 9-13 % low at 2.1-2.5 reported standard errors with 25 000-200 000 paths, within "
-              "3 % with 16 times more); raise the probe's samples, or compare with `littoral column`",
-              probe.name, albedo / n);
+    return n > 0 && albedo / n >= 0.5 ? albedo / n : 0;
+}
+
+// One warning for every Lu value of `values` (probe by probe, in the order of ir.probes) that came
+// from backward paths where heavyTailedLuAlbedo applies.
+void warnAboutHeavyTailedLu(const Scene& scene, const std::vector<ProbeValue>& values) {
+    int count = 0;
+    std::string first;
+    for (const ProbeValue& v : values) {
+        if (v.quantity != "Lu" || v.method != "backward") continue;
+        const auto& probes = scene.ir().probes;
+        const auto it = std::find_if(probes.begin(), probes.end(), [&](const ir::Probe& p) { return p.name == v.probe; });
+        const double albedo = it == probes.end() ? 0.0 : heavyTailedLuAlbedo(scene, *it);
+        if (!(albedo > 0)) continue;
+        if (count++ == 0) first = fmt::format("probe '{}', in water of single-scattering albedo {:.2f}", v.probe, albedo);
+    }
+    if (count > 0)
+        log::warn("{} Lu value(s) (the first: {}) come from backward paths in water with a forward-peaked phase "
+                  "function and a high albedo, which are heavy-tailed: the standard error can understate the error "
+                  "(Mobley et al.'s problem 2, albedo 0.9: 9-13 % low at 2.1-2.5 reported standard errors with "
+                  "25 000-200 000 paths, within 3 % with 16 times more); raise the probes' samples, or compare with "
+                  "`littoral column`",
+                  count, first);
 }
 
 }  // namespace
@@ -445,8 +462,6 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
         }
         out.push_back(
             backwardValue(scene, estimators, probe, probeIndex, qi, N, probeStreamBase(estimators), opts, progress.get()));
-        if (probe.quantities[qi] == "Lu" && cfg.estimator == ir::Estimator::Path && estimators.pass() == 1)
-            warnIfHeavyTailedLu(scene, probe);
     }
     if (progress) progress->finish();
     return out;
@@ -462,6 +477,7 @@ std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& e
         auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
         out.insert(out.end(), v.begin(), v.end());
     }
+    if (estimators.config().estimator == ir::Estimator::Path && estimators.pass() == 1) warnAboutHeavyTailedLu(scene, out);
     return out;
 }
 
