@@ -55,6 +55,20 @@ double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The probe values of `ir` (meshes in irDir) as evaluate(scene, estimators, options) gives them, on
+// all cores without progress; *secs receives the wall time, the scene's set-up included.
+template <class F>
+std::vector<render::ProbeValue> timedProbes(const ir::SceneIR& ir, const fs::path& irDir, double* secs, F&& evaluate) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const render::Scene sc(ir, irDir);
+    const render::EstimatorSet est(sc);
+    render::RenderOptions ro;
+    ro.progress = false;
+    std::vector<render::ProbeValue> values = evaluate(sc, est, ro);
+    *secs = seconds(t0);
+    return values;
+}
+
 // The column solver's {depth -> row} of a scene file at `depths`, n streams per half; *secs its time.
 std::map<double, column::DepthResult> solve(const fs::path& file, const std::vector<double>& depths, int streams,
                                             double* secs) {
@@ -102,20 +116,15 @@ void benchColumns(const fs::path& src) {
                 std::erase(p.quantities, std::string("Lu"));
                 p.samples = std::max(render::makeRenderConfig(ir).probeBatches * 2, p.samples.value_or(4096) / 8);
             }
-            const auto t0 = std::chrono::steady_clock::now();
-            const render::Scene sc(ir, irDir);
-            const render::EstimatorSet est(sc);
-            render::RenderOptions ro;
-            ro.progress = false;
+            double t = 0;
             int passing = 0, cells = 0;
-            for (const auto& v : render::evaluateProbes(sc, est, ro)) {
+            for (const auto& v : timedProbes(ir, irDir, &t, render::evaluateProbes)) {
                 const double z = col.depthOfProbe.at(v.probe);
                 const double ref = v.quantity == "Ed" ? fine.at(z).Ed : fine.at(z).Eou;
                 const double conv = std::abs(ref - (v.quantity == "Ed" ? base.at(z).Ed : base.at(z).Eou));
                 passing += std::abs(v.mean[0] - ref) <= 3 * v.stderr_[0] + conv && v.stderr_[0] <= 0.01 * v.mean[0];
                 ++cells;
             }
-            const double t = seconds(t0);
             total += t;
             std::printf("%-34s %12lld %12.2f %14.2f %-16s %.3f\n", col.file, static_cast<long long>(photons), t, total,
                         (std::to_string(passing) + " / " + std::to_string(cells)).c_str(), solverSecs);
@@ -153,25 +162,26 @@ int main(int argc, char** argv) {
             ir::SceneIR ir = built.ir;
             for (auto& p : ir.probes) p.samples = std::max(render::makeRenderConfig(ir).probeBatches * 2,
                                                            static_cast<int>(p.samples.value_or(4096) * scale));
-            const auto t0 = std::chrono::steady_clock::now();
-            const render::Scene sc(ir, irDir);
-            const render::EstimatorSet est(sc);
-            render::RenderOptions ro;
-            ro.progress = false;
-            int passing = 0, cells = 0;
-            for (size_t i = 0; i < ir.probes.size(); ++i) {
-                const auto values = render::evaluateProbe(sc, est, ir.probes[i], static_cast<int>(i), ro);
-                const mb::Row* row = mb::find(pb.problem, pb.w0, pb.tauOfProbe.at(ir.probes[i].name));
-                for (const auto& v : values) {
-                    const mb::Cell& cell = v.quantity == "Ed" ? row->Ed : v.quantity == "Eou" ? row->Eou : row->Lu;
-                    const double rel = v.mean[0] / cell.mean - 1;
-                    const bool ok = std::abs(rel) <= mb::toleranceWithRounding(cell, v.stderr_[0]) &&
-                                    v.stderr_[0] / v.mean[0] <= std::max(cell.sOverMean, 0.01);
-                    passing += ok;
-                    ++cells;
+            // Backward paths only (evaluateProbe without the forward tallies): issue 8's benchmark.
+            const auto backward = [](const render::Scene& sc, const render::EstimatorSet& est, const render::RenderOptions& ro) {
+                std::vector<render::ProbeValue> all;
+                for (size_t i = 0; i < sc.ir().probes.size(); ++i) {
+                    const auto v = render::evaluateProbe(sc, est, sc.ir().probes[i], static_cast<int>(i), ro);
+                    all.insert(all.end(), v.begin(), v.end());
                 }
+                return all;
+            };
+            double t = 0;
+            int passing = 0, cells = 0;
+            for (const auto& v : timedProbes(ir, irDir, &t, backward)) {
+                const mb::Row* row = mb::find(pb.problem, pb.w0, pb.tauOfProbe.at(v.probe));
+                const mb::Cell& cell = v.quantity == "Ed" ? row->Ed : v.quantity == "Eou" ? row->Eou : row->Lu;
+                const double rel = v.mean[0] / cell.mean - 1;
+                const bool ok = std::abs(rel) <= mb::toleranceWithRounding(cell, v.stderr_[0]) &&
+                                v.stderr_[0] / v.mean[0] <= std::max(cell.sOverMean, 0.01);
+                passing += ok;
+                ++cells;
             }
-            const double t = seconds(t0);
             total += t;
             std::printf("%-24s %10.4g %12.2f %14.2f %d / %d\n", pb.file, scale, t, total, passing, cells);
             std::fflush(stdout);

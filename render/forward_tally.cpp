@@ -273,11 +273,10 @@ struct Batches {
 std::vector<std::vector<Spec>> tallyGroup(const Scene& scene, const EstimatorSet& estimators, BandGroup g,
                                           const std::vector<Level>& levels, const Batches& bt, const ForwardTallyRun& run,
                                           tbb::task_arena& arena, Progress* progress, uint64_t* cuts) {
-    const bool pilot = run.pilot;
     const RenderConfig& cfg = estimators.config();
     PhotonPassSettings ps;
     ps.seed = scene.ir().render.seed;
-    ps.pass = (pilot ? kForwardPilotPassBase + static_cast<uint64_t>(run.pilotStage) * kPilotStageStride : kForwardPassBase) +
+    ps.pass = (run.pilot ? kForwardPilotPassBase + static_cast<uint64_t>(run.pilotStage) * kPilotStageStride : kForwardPassBase) +
               static_cast<uint64_t>(estimators.pass()) * 64 + static_cast<uint64_t>(g.begin);
     ps.maxBounces = cfg.maxBounces;
     ps.maxSpecularDepth = cfg.maxSpecularDepth;

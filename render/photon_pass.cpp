@@ -64,21 +64,22 @@ private:
         return st_.depthImportance.empty() ? 1.0 : st_.depthImportance.at(z);
     }
     // Russian roulette on the photon's power, as a weight window: a photon whose largest band
-    // power, times the importance at height z, is below st_.rouletteBelow survives with probability
-    // max I / rouletteBelow and is scaled up by its inverse (unbiased). One number is drawn always,
-    // so that the streams do not depend on the threshold's outcome.
-    bool roulette(Spec& w, RandomStream& rng, double z) const {
-        const double u = rng.uniform(), m = w.maxValue() * importance(z);
+    // power, times the importance I where it is, is below st_.rouletteBelow survives with
+    // probability max I / rouletteBelow and is scaled up by its inverse (unbiased). One number is
+    // drawn always, so that the streams do not depend on the threshold's outcome.
+    bool roulette(Spec& w, RandomStream& rng, double I) const {
+        const double u = rng.uniform(), m = w.maxValue() * I;
         if (m >= st_.rouletteBelow) return true;
         const double q = m / st_.rouletteBelow;
         if (u >= q || !(q > 0)) return false;
         w *= 1.0 / q;
         return true;
     }
-    // How many copies a collision at height z makes of a photon of power w (splitting by depth).
-    int splitCount(const Spec& w, double z) const {
+    // How many copies a collision where the importance is I makes of a photon of power w
+    // (splitting by depth).
+    int splitCount(const Spec& w, double I) const {
         if (st_.depthImportance.empty()) return 1;
-        const double v = w.maxValue() * importance(z);
+        const double v = w.maxValue() * I;
         return v >= 2.0 ? static_cast<int>(std::min<double>(std::floor(v), st_.maxSplit)) : 1;
     }
     // A collision in a scattering medium: stores the event (MediumPM media), splits the photon by
@@ -86,8 +87,8 @@ private:
     bool scatter(State& s, const FreeFlight& ff, RandomStream& rng, ChunkResult& out, PhotonObserver* observer,
                  Pending& pending) const;
     // Turns a photon of power w at x (stores it first where its medium keeps a volume map); then the
-    // roulette. False if it ends.
-    bool turn(State& s, const Point3& x, int layer, RandomStream& rng, ChunkResult& out) const;
+    // roulette at importance I. False if it ends.
+    bool turn(State& s, const Point3& x, int layer, double I, RandomStream& rng, ChunkResult& out) const;
     // A diffuse vertex: stores the photon (SurfacePM materials) and reflects it. False if it ends.
     bool reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& rng, ChunkResult& out,
                         PhotonObserver* observer) const;
@@ -112,17 +113,18 @@ bool PhotonTracer::scatter(State& s, const FreeFlight& ff, RandomStream& rng, Ch
         if (observer) observer->cut(s.w);
         return false;
     }
-    if (const int n = splitCount(s.w, x.z); n > 1) {
+    const double I = importance(x.z);
+    if (const int n = splitCount(s.w, I); n > 1) {
         s.w *= 1.0 / n;
         for (int c = 1; c < n; ++c) {
             State copy = s;
-            if (turn(copy, x, ff.layer, rng, out)) pending.push_back(copy);
+            if (turn(copy, x, ff.layer, I, rng, out)) pending.push_back(copy);
         }
     }
-    return turn(s, x, ff.layer, rng, out);
+    return turn(s, x, ff.layer, I, rng, out);
 }
 
-bool PhotonTracer::turn(State& s, const Point3& x, int layer, RandomStream& rng, ChunkResult& out) const {
+bool PhotonTracer::turn(State& s, const Point3& x, int layer, double I, RandomStream& rng, ChunkResult& out) const {
     static const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
     const Medium& md = scene_.media()[static_cast<size_t>(s.medium)];
     Spec pw;
@@ -135,7 +137,7 @@ bool PhotonTracer::turn(State& s, const Point3& x, int layer, RandomStream& rng,
     } else {
         s.ray = Ray{x, s.ray.d};
     }
-    return roulette(s.w, rng, x.z);
+    return roulette(s.w, rng, I);
 }
 
 bool PhotonTracer::reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& rng, ChunkResult& out,
@@ -146,7 +148,7 @@ bool PhotonTracer::reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& r
     if (st_.surfaceMaterial[static_cast<size_t>(scene_.materialIndex(h))]) out.surface.add(h.p, s.ray.d, n, s.w);
     if (rho.isBlack() || ++s.events > st_.maxBounces) return false;
     s.w *= rho;
-    if (!roulette(s.w, rng, h.p.z)) return false;
+    if (!roulette(s.w, rng, importance(h.p.z))) return false;
     const Frame frame = Frame::fromNormal(n);
     const double v1 = rng.uniform(), v2 = rng.uniform();
     s.ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(sampleCosineHemisphere(v1, v2))));

@@ -417,19 +417,9 @@ double heavyTailedLuAlbedo(const Scene& scene, const ir::Probe& probe) {
     return n > 0 && albedo / n >= 0.5 ? albedo / n : 0;
 }
 
-// One warning for every Lu value of `values` (probe by probe, in the order of ir.probes) that came
-// from backward paths where heavyTailedLuAlbedo applies.
-void warnAboutHeavyTailedLu(const Scene& scene, const std::vector<ProbeValue>& values) {
-    int count = 0;
-    std::string first;
-    for (const ProbeValue& v : values) {
-        if (v.quantity != "Lu" || v.method != "backward") continue;
-        const auto& probes = scene.ir().probes;
-        const auto it = std::find_if(probes.begin(), probes.end(), [&](const ir::Probe& p) { return p.name == v.probe; });
-        const double albedo = it == probes.end() ? 0.0 : heavyTailedLuAlbedo(scene, *it);
-        if (!(albedo > 0)) continue;
-        if (count++ == 0) first = fmt::format("probe '{}', in water of single-scattering albedo {:.2f}", v.probe, albedo);
-    }
+// One warning for the Lu values that came from backward paths where heavyTailedLuAlbedo applies:
+// `count` of them, the first at `first` (its probe and albedo).
+void warnAboutHeavyTailedLu(int count, const std::string& first) {
     if (count > 0)
         log::warn("{} Lu value(s) (the first: {}) come from backward paths in water with a forward-peaked phase "
                   "function and a high albedo, which are heavy-tailed: the standard error can understate the error "
@@ -473,11 +463,20 @@ std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& e
     const ForwardTallies forward = run.only.empty() ? ForwardTallies() : ForwardTallies(scene, estimators, opts, run);
     std::vector<ProbeValue> out;
     const auto& probes = scene.ir().probes;
+    const bool warn = estimators.config().estimator == ir::Estimator::Path && estimators.pass() == 1;
+    int heavy = 0;  // backward Lu values in heavy-tailed water (warned about once)
+    std::string first;
     for (size_t i = 0; i < probes.size(); ++i) {
         auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
+        for (const ProbeValue& pv : v) {
+            if (!warn || pv.quantity != "Lu" || pv.method != "backward") continue;
+            const double albedo = heavyTailedLuAlbedo(scene, probes[i]);
+            if (albedo > 0 && heavy++ == 0)
+                first = fmt::format("probe '{}', in water of single-scattering albedo {:.2f}", pv.probe, albedo);
+        }
         out.insert(out.end(), v.begin(), v.end());
     }
-    if (estimators.config().estimator == ir::Estimator::Path && estimators.pass() == 1) warnAboutHeavyTailedLu(scene, out);
+    warnAboutHeavyTailedLu(heavy, first);
     return out;
 }
 

@@ -98,18 +98,11 @@ std::string problem6HenyeyGreensteinLu() {
         "[Ed, Eou, Lu], samples: 200000", "[Lu], samples: 2000");
 }
 
-// Problem 2's scene file with its probes reading Ed and Eou only (no backward Lu paths).
-std::string problem2IrradiancesOnly() {
-    const std::string text = readText(sceneFile("mobley1993/problem2_albedo09.yaml"));
-    return replacedOnce(replacedOnce(replacedOnce(text, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
-                                     "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
-                        "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
-}
-
-// Problem 5's scene file (problem 2's water under a Cox-Munk sea, U = 7.23 m/s, sun at 80 deg) with
-// its probes reading Ed and Eou only.
-std::string problem5IrradiancesOnly() {
-    const std::string text = readText(sceneFile("mobley1993/problem5.yaml"));
+// A Mobley scene file of probes at tau 1, 5 and 10 (problem 2, and problem 5: problem 2's water
+// under a Cox-Munk sea, U = 7.23 m/s, sun at 80 deg) with its probes reading Ed and Eou only (no
+// backward Lu paths).
+std::string irradiancesOnly(const std::string& file) {
+    const std::string text = readText(sceneFile("mobley1993/" + file));
     return replacedOnce(replacedOnce(replacedOnce(text, "[Ed, Eou, Lu], samples: 25000", "[Ed, Eou]"),
                                      "[Ed, Eou, Lu], samples: 80000", "[Ed, Eou]"),
                         "[Ed, Eou, Lu], samples: 200000", "[Ed, Eou]");
@@ -129,7 +122,7 @@ std::string problem5IrradiancesOnly() {
 TEST(ForwardTallies, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
     const fs::path scene = sceneFile("mobley1993/problem5.yaml");
     std::string printed;
-    const Probes p = runProbes("problem5", problem5IrradiancesOnly(), "", "-q --verbose", &printed);
+    const Probes p = runProbes("problem5", irradiancesOnly("problem5.yaml"), "", "-q --verbose", &printed);
     expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", 0.01);
     for (const char* probe : {"tau1", "tau5", "tau10"}) EXPECT_EQ(p.at(probe).at("Ed").method, "forward") << probe;
     // The log counts the pilot's choices; --verbose names each with its reason.
@@ -191,7 +184,7 @@ TEST(ForwardTallies, StratifiedColumnAgreesWithTheColumnSolver) {
 // 0.126 and the ratio lies in [4 e^-0.38, 4 e^0.38] = [2.74, 5.85] with 3-sigma confidence. A heavy
 // tail (infinite variance) would show as a ratio well below 4 in some cell.
 TEST(ForwardTallies, StandardErrorFallsAsOneOverRootN) {
-    const std::string noLu = replacedOnce(problem2IrradiancesOnly(), "probe_batches: 20", "probe_batches: 64");
+    const std::string noLu = replacedOnce(irradiancesOnly("problem2_albedo09.yaml"), "probe_batches: 20", "probe_batches: 64");
     const Probes small = runProbes("small", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 250000"));
     const Probes large = runProbes("large", replacedOnce(noLu, "probe_photons: 1000000", "probe_photons: 4000000"));
     for (const char* probe : {"tau1", "tau5", "tau10"})
@@ -205,7 +198,7 @@ TEST(ForwardTallies, StandardErrorFallsAsOneOverRootN) {
 
 // Identical for 1 and 2 threads (chunks of fixed photon ranges, summed in order).
 TEST(ForwardTallies, ResultsDoNotDependOnTheThreadCount) {
-    const std::string noLu = replacedOnce(problem2IrradiancesOnly(), "probe_photons: 1000000", "probe_photons: 40000");
+    const std::string noLu = replacedOnce(irradiancesOnly("problem2_albedo09.yaml"), "probe_photons: 1000000", "probe_photons: 40000");
     const fs::path dir = scratchDir("pipelines", "forward_tally_threads");
     writeTextFile(dir, "scene.yaml", noLu);
     for (const char* t : {"1", "2"}) {
