@@ -66,6 +66,21 @@ double discFractionInside(double h, double r) {
     return 1.0 - (std::acos(x) - x * std::sqrt(1.0 - x * x)) / kPi;
 }
 
+// Share of the beam estimate's disc (radius r, centre at height z, on a ray whose direction makes
+// sin = sinToVertical with the vertical) that lies in layer `l` of a layered medium: the boundaries
+// between layers are horizontal planes, a plane at height distance dz from the centre crosses the
+// disc at an in-disc distance dz / sin (a vertical ray's disc is horizontal and never cut). The
+// water's own top and bottom are surfaces, cut by the caller; only boundaries between layers are
+// counted here.
+double layerDiscFraction(const Medium& md, int l, double z, double sinToVertical, double r) {
+    if (sinToVertical < 1e-9) return 1.0;
+    const MediumLayer& layer = md.layers()[static_cast<size_t>(l)];
+    double f = 1.0;
+    if (l > 0) f *= discFractionInside((layer.zTop - z) / sinToVertical, r);
+    if (l + 1 < static_cast<int>(md.layers().size())) f *= discFractionInside((z - layer.zBottom) / sinToVertical, r);
+    return f;
+}
+
 constexpr int kCoverageProbes = 16, kCoverageHits = 16, kMaxCoverageProbes = 4096;
 
 class DirsigEstimator final : public Estimator {
@@ -199,6 +214,8 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
         return s2 > 1e-12 ? c / std::sqrt(s2) : ir::kInfinity;
     };
     const bool cutEnd = lengthSquared(endNormal) > 0 && std::isfinite(tMax), cutStart = lengthSquared(startNormal) > 0;
+    const bool layered = md.layers().size() > 1;
+    const double sinToVertical = std::sqrt(std::max(0.0, 1.0 - ray.d.z * ray.d.z));
     const double kEnd = cutEnd ? slope(endNormal) : ir::kInfinity, kStart = cutStart ? slope(startNormal) : ir::kInfinity;
     for (double t0 = 0; t0 < tEnd; t0 += config_.marchStep) {
         const double t1 = std::min(tEnd, t0 + config_.marchStep);
@@ -213,7 +230,11 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
         forEachPeriodicImage(lo, hi, [&](const Vec3& shift) {
         vm.forEachNearSegment(ray.o + shift, ray.d, t0, t1, rV_, [&](size_t i, double t) {
             const Point3 x = vm.position(i);
-            const int li = l0 == l1 ? l0 : md.layerAt(x.z);
+            // A layer boundary cuts the disc like a surface: only photons of the layer the ray is in
+            // at t count, over the share of the disc on that layer's side.
+            const int li = layered ? md.layerAt(x.z) : 0;
+            const int lc = !layered ? 0 : l0 == l1 ? l0 : md.layerAt(ray.at(t).z);
+            if (li != lc) return;
             Spec p = md.phase(li, group_, vm.direction(i), toEye);
             if (eff) {
                 // Effective scattering: the map holds only events outside the 0.01 sr forward cone
@@ -235,7 +256,7 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
             } else {
                 T = md.transmittance(ray, t, group_, eff);
             }
-            double cut = 1.0;
+            double cut = layered ? layerDiscFraction(md, lc, ray.at(t).z, sinToVertical, rV_) : 1.0;
             if (cutEnd && std::isfinite(kEnd)) cut *= discFractionInside(kEnd * (tMax - t), rV_);
             if (cutStart && std::isfinite(kStart)) cut *= discFractionInside(kStart * t, rV_);
             const double wgt = inv / cut;
@@ -493,6 +514,8 @@ const KindInfo& dirsigEstimatorKind() {
              "scattering and diffuse events per photon path"},
             {"effective_scattering", "photons.effective_scattering", T::Boolean, 0, 0, 1, "",
              "DIRSIG's effective scattering coefficient (scattering within 0.01 sr of forward is unscattered)"},
+            {"photon_depth_splitting", "photons.depth_splitting", T::Boolean, 0, 0, 1, "",
+             "volume photons split by depth (I = Eo(top) / Eo(z) from a pilot), so deep water gets photons"},
             {"photon_importance", "photons.importance", T::Boolean, 1, 0, 1, "",
              "importance emission: photons start where a pilot found they store, weighted so the estimate is unchanged"},
             {"progressive_passes", "progressive.passes", T::Integer, 1, 1, 100000, "",

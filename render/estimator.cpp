@@ -236,6 +236,7 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
         checkRadiusFitsDomain(ir, r, "volume_search_radius_m", c->volumeRadius);
         c->marchStep = r.get<double>("march_step_m");
         c->effectiveScattering = r.get<bool>("effective_scattering");
+        c->depthSplitting = r.get<bool>("photon_depth_splitting");
     }
     if (c->usesPhotons()) {
         readPhotonPasses(ir.render, r, c);
@@ -407,6 +408,7 @@ EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progr
             for (size_t m = 0; m < config_.mediumPM.size(); ++m) ps.volumeMedium[m + 1] = config_.mediumPM[m];
             for (size_t m = 0; m < config_.solvers.size(); ++m)
                 ps.surfaceMaterial.push_back(config_.solvers[m] == ir::Material::Solver::SurfacePM);
+            if (config_.depthSplitting && ps.volumeTarget > 0) ps.depthImportance = volumeDepthImportance(scene, g, ps);
             maps_.push_back(std::make_unique<PhotonMaps>(tracePhotons(scene, g, ps)));
             maps = maps_.back().get();
         }

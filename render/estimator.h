@@ -67,6 +67,7 @@ struct RenderConfig {
     int photonMaxSpecularDepth = 1000;
     bool effectiveScattering = false;
     bool photonImportance = true;  // render.photons.importance
+    bool depthSplitting = false;   // render.photons.depth_splitting (volume map)
     int passes = 1;             // progressive passes
     double alpha = 2.0 / 3.0;   // radius reduction per pass (Knaus & Zwicker 2011)
     bool usesPhotons() const { return surfacePhotons > 0 || volumePhotons > 0; }

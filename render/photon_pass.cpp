@@ -593,4 +593,59 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
     return maps;
 }
 
+namespace {
+
+constexpr uint64_t kDepthPilotPass = 1ull << 45, kDepthPilotStageStride = 1ull << 44;
+
+// (z, Eo up to a constant) per depth bin of the volume map of the first medium that keeps one.
+std::vector<std::pair<double, double>> volumeDepthProfile(const Scene& scene, BandGroup g, const PhotonPassSettings& st,
+                                                         const PhotonMap& vm) {
+    constexpr int kBins = 64;
+    constexpr double kMinPhotons = 32;
+    size_t medium = 0;
+    while (medium < st.volumeMedium.size() && !st.volumeMedium[medium]) ++medium;
+    if (medium >= st.volumeMedium.size() || vm.size() == 0) return {};
+    const Medium& md = scene.media()[medium];
+    double zLo = ir::kInfinity, zHi = -ir::kInfinity;
+    for (size_t i = 0; i < vm.size(); ++i) zLo = std::min(zLo, vm.position(i).z), zHi = std::max(zHi, vm.position(i).z);
+    const double width = (zHi - zLo) / kBins;
+    if (!(width > 0)) return {};
+    std::vector<double> sum(kBins, 0.0), count(kBins, 0.0);
+    for (size_t i = 0; i < vm.size(); ++i) {
+        const double z = vm.position(i).z;
+        const MediumLayer& l = md.layers()[static_cast<size_t>(md.layerAt(z))];
+        const int k = std::min(kBins - 1, static_cast<int>((zHi - z) / width));
+        const double b = st.effectiveScattering ? l.cEff[g.begin] - l.a[g.begin] : l.b[g.begin];
+        if (!(b > 0)) continue;
+        sum[k] += vm.power(i, 0) / b, count[k] += 1;
+    }
+    std::vector<std::pair<double, double>> profile;
+    for (int k = 0; k < kBins; ++k)
+        if (count[k] >= kMinPhotons) profile.emplace_back(zHi - (k + 0.5) * width, sum[k]);
+    return profile;
+}
+
+}  // namespace
+
+DepthImportance volumeDepthImportance(const Scene& scene, BandGroup g, const PhotonPassSettings& st) {
+    PhotonPassSettings pilot = st;
+    pilot.surfaceTarget = 0;
+    pilot.volumeTarget = std::max<uint64_t>(st.volumeTarget / 32, 8192);
+    pilot.progress = false;
+    pilot.depthImportance = {};
+    DepthImportance d;
+    for (uint64_t stage = 0; stage < 2; ++stage) {
+        pilot.pass = st.pass + kDepthPilotPass + stage * kDepthPilotStageStride;
+        const PhotonMaps maps = tracePhotons(scene, g, pilot);
+        DepthImportance next = DepthImportance::fromProfile(volumeDepthProfile(scene, g, pilot, maps.volume));
+        if (next.empty()) break;
+        d = std::move(next);
+        pilot.depthImportance = d;
+    }
+    if (!d.empty())
+        log::info("photon pass: split by depth, importance {:.3g} at {:.2f} m to {:.3g} at {:.2f} m (pilot)",
+                  std::exp(d.logI.front()), d.z.front(), std::exp(d.logI.back()), d.z.back());
+    return d;
+}
+
 }  // namespace littoral::render

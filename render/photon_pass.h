@@ -52,8 +52,8 @@
 
 namespace littoral::render {
 
-// Splitting by depth (the forward probe tallies' photons, ObservedPhotons; the photon maps use
-// none). I(z) is the importance of a photon at height z: log-linear between the points given, and
+// Splitting by depth (the forward probe tallies' photons, ObservedPhotons; the volume photon map
+// with render.photons.depth_splitting, volumeDepthImportance below). I(z) is the importance of a photon at height z: log-linear between the points given, and
 // constant beyond the first and the last. At each collision a photon whose largest band power w
 // carries v = w I(z) >= 2 is split into n = min(floor(v), maxSplit) copies of power w / n, each
 // turned by its own phase-function sample and walked on its own (from the same random stream, in a
@@ -180,6 +180,17 @@ private:
 // Traces the photons of one band group. Warns if the emission cap is reached before a map is
 // full (it then holds what was stored).
 PhotonMaps tracePhotons(const Scene& scene, BandGroup group, const PhotonPassSettings& settings);
+
+// Splitting by depth for the volume map (render.photons.depth_splitting): I(z) = Eo(top) / Eo(z)
+// of the first medium that keeps a volume map, from a pilot in two stages of volumeTarget / 32
+// stored photons each (at least 8192; own random streams): the first unsplit, the second split by
+// the first's profile, so that it reaches deeper. Eo(z) per bin of 1/64 of the stored photons' depth
+// range: the stored power over the scattering coefficient that stores (b, or b (1 - f) with
+// effective scattering) at each photon (bins of fewer than 32 photons are left out; I is constant
+// beyond the last). With it the stored photons spread about evenly over depth instead of falling
+// with Eo, so deep estimates get photons. Unbiased whatever the pilot finds (DepthImportance).
+// Empty if the pilot stores too little to tell.
+DepthImportance volumeDepthImportance(const Scene& scene, BandGroup group, const PhotonPassSettings& settings);
 
 // The cone half-angle (cosine) of the effective scattering coefficient: 0.01 sr.
 inline constexpr double kEffectiveConeSr = 0.01;

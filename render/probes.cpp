@@ -417,15 +417,24 @@ double heavyTailedLuAlbedo(const Scene& scene, const ir::Probe& probe) {
     return n > 0 && albedo / n >= 0.5 ? albedo / n : 0;
 }
 
-// One warning for the Lu values that came from backward paths where heavyTailedLuAlbedo applies:
-// `count` of them, the first at `first` (its probe and albedo).
-void warnAboutHeavyTailedLu(int count, const std::string& first) {
-    if (count > 0)
+// One warning for the Lu values that came from backward paths (path) or from the volume photon map
+// (dirsig) where heavyTailedLuAlbedo applies: `count` of them, the first at `first` (its probe and
+// albedo).
+void warnAboutHeavyTailedLu(int count, const std::string& first, ir::Estimator estimator) {
+    if (count <= 0) return;
+    if (estimator == ir::Estimator::Path)
         log::warn("{} Lu value(s) (the first: {}) come from backward paths in water with a forward-peaked phase "
                   "function and a high albedo, which are heavy-tailed: the standard error can understate the error "
                   "(Mobley et al.'s problem 2, albedo 0.9: 9-13 % low at 2.1-2.5 reported standard errors with "
                   "25 000-200 000 paths, within 3 % with 16 times more); raise the probes' samples, or compare with "
                   "`littoral column`",
+                  count, first);
+    else
+        log::warn("{} Lu value(s) (the first: {}) come from the volume photon map in water with a forward-peaked "
+                  "phase function and a high albedo: a few upward photons near the view direction carry most of the "
+                  "value, and the standard error can understate the error (Mobley et al.'s problem 5 at a search "
+                  "radius of 0.1 m: 14-35 % low, at up to 6 reported standard errors); raise "
+                  "render.search_radius_m.volume or the photons, or compare with `littoral column`",
                   count, first);
 }
 
@@ -463,20 +472,32 @@ std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& e
     const ForwardTallies forward = run.only.empty() ? ForwardTallies() : ForwardTallies(scene, estimators, opts, run);
     std::vector<ProbeValue> out;
     const auto& probes = scene.ir().probes;
-    const bool warn = estimators.config().estimator == ir::Estimator::Path && estimators.pass() == 1;
-    int heavy = 0;  // backward Lu values in heavy-tailed water (warned about once)
+    const RenderConfig& cfg = estimators.config();
+    const bool warn = estimators.pass() == 1;
+    // Lu that the estimator answers in a heavy-tailed way: backward paths, or the volume map of
+    // the probe's medium (warned about once).
+    auto heavyTailed = [&](const ir::Probe& probe, const ProbeValue& pv) {
+        if (pv.quantity != "Lu" || pv.method != "backward") return 0.0;
+        if (cfg.estimator == ir::Estimator::Dirsig) {
+            const int m = scene.mediumIndex(probe.medium, fmt::format("probe '{}' medium", probe.name));
+            if (m <= 0 || static_cast<size_t>(m - 1) >= cfg.mediumPM.size() || !cfg.mediumPM[static_cast<size_t>(m - 1)])
+                return 0.0;
+        }
+        return heavyTailedLuAlbedo(scene, probe);
+    };
+    int heavy = 0;
     std::string first;
     for (size_t i = 0; i < probes.size(); ++i) {
         auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
         for (const ProbeValue& pv : v) {
-            if (!warn || pv.quantity != "Lu" || pv.method != "backward") continue;
-            const double albedo = heavyTailedLuAlbedo(scene, probes[i]);
+            if (!warn) continue;
+            const double albedo = heavyTailed(probes[i], pv);
             if (albedo > 0 && heavy++ == 0)
                 first = fmt::format("probe '{}', in water of single-scattering albedo {:.2f}", pv.probe, albedo);
         }
         out.insert(out.end(), v.begin(), v.end());
     }
-    warnAboutHeavyTailedLu(heavy, first);
+    warnAboutHeavyTailedLu(heavy, first, cfg.estimator);
     return out;
 }
 

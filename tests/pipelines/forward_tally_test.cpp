@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/support/column_reference.h"
 #include "tests/support/probe_table.h"
 #include "tests/support/test_support.h"
 
@@ -43,44 +44,6 @@ std::string readText(const fs::path& f) {
     std::stringstream s;
     s << in.rdbuf();
     return s.str();
-}
-
-// {depth -> {quantity -> value}} of `littoral column` with n streams per half.
-std::map<double, std::map<std::string, double>> runColumn(const fs::path& scene, const std::string& depths, int streams) {
-    const fs::path out = scratchDir("pipelines", "forward_tally_column_" + scene.stem().string() + std::to_string(streams));
-    const CommandResult r = runLittoral("--quiet column " + scene.string() + " --out " + out.string() + " --depths " +
-                                        depths + " --streams " + std::to_string(streams));
-    EXPECT_EQ(r.status, 0) << r.output;
-    std::map<double, std::map<std::string, double>> cells;
-    std::ifstream in(out / "profiles.json");
-    if (!in) return cells;
-    const auto j = nlohmann::json::parse(in);
-    for (const auto& d : j["bands"][0]["depths"])
-        for (const char* q : {"Ed", "Eou", "Lu"}) cells[d["depth_m"].get<double>()][q] = d[q].get<double>();
-    return cells;
-}
-
-// Every forward cell of `probes` (probe name -> depth) against the column solver: within 3 of its
-// standard errors plus the solver's discretisation error, bounded by the change from 8 to 16
-// streams per half (a false failure about once in 370 per cell from the noise), and with a
-// standard error of at most `maxRelSe` of the value.
-void expectColumnAgreement(const Probes& p, const fs::path& scene, const std::map<std::string, double>& depthOf,
-                           const std::string& depths, double maxRelSe,
-                           const std::vector<std::string>& quantities = {"Ed", "Eou"}) {
-    const auto base = runColumn(scene, depths, 8), fine = runColumn(scene, depths, 16);
-    for (const auto& [probe, z] : depthOf)
-        for (const std::string& qs : quantities) {
-            const char* q = qs.c_str();
-            ASSERT_TRUE(p.count(probe) && p.at(probe).count(q)) << probe << " " << q;
-            const ProbeCell& c = p.at(probe).at(q);
-            ASSERT_TRUE(base.count(z) && fine.count(z)) << scene << " depth " << z;
-            const double v = base.at(z).at(q), conv = std::abs(fine.at(z).at(q) - v);
-            EXPECT_NEAR(c.value, v, 3 * c.se + conv) << scene.filename() << " " << probe << " " << q;
-            EXPECT_LE(c.se, maxRelSe * c.value) << scene.filename() << " " << probe << " " << q;
-            std::printf("[ forward ] %-22s %-6s %-3s %.5e +- %.2e (%.2f %%)  column %.5e  diff %+.2f %% = %+.1f se\n",
-                        scene.filename().c_str(), probe.c_str(), q, c.value, c.se, 100 * c.se / c.value, v,
-                        100 * (c.value / v - 1), (c.value - v) / c.se);
-        }
 }
 
 // Lu by the collision estimator (every collision below the probe and every reflection on a
@@ -123,7 +86,7 @@ TEST(ForwardTallies, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
     const fs::path scene = sceneFile("mobley1993/problem5.yaml");
     std::string printed;
     const Probes p = runProbes("problem5", irradiancesOnly("problem5.yaml"), "", "-q --verbose", &printed);
-    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", 0.01);
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", {3, 0.01});
     for (const char* probe : {"tau1", "tau5", "tau10"}) EXPECT_EQ(p.at(probe).at("Ed").method, "forward") << probe;
     // The log counts the pilot's choices; --verbose names each with its reason.
     EXPECT_NE(printed.find("the pilot chose forward tallies for 6 and backward paths for 0 of the 6"), std::string::npos)
@@ -140,7 +103,7 @@ TEST(ForwardTallies, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
 TEST(ForwardTallies, PetzoldAlbedo09ColumnAgreesWithTheColumnSolver) {
     const fs::path scene = sceneFile("mobley1993/problem2_albedo09.yaml");
     const Probes p = runProbes("problem2", readText(scene));
-    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", 0.012);
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10", {3, 0.012});
     // The pilot predicts forward errors 6-20 times below the backward ones for every cell.
     for (const char* probe : {"tau1", "tau5", "tau10"})
         for (const char* q : {"Ed", "Eou"}) EXPECT_EQ(p.at(probe).at(q).method, "forward") << probe << " " << q;
@@ -154,7 +117,7 @@ TEST(ForwardTallies, LuOverALambertianBottomAgreesWithTheColumnSolver) {
     const fs::path dir = scratchDir("pipelines", "forward_tally_hg_bottom_scene");
     const fs::path scene = writeTextFile(dir, "hg_bottom.yaml", problem6HenyeyGreensteinLu());
     const Probes p = runProbes("hg_bottom", readText(scene));
-    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 4.999}}, "1,4.999", 0.01, {"Lu"});
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 4.999}}, "1,4.999", {3, 0.01, {"Lu"}});
     EXPECT_EQ(p.at("tau1").at("Lu").method, "forward");
     EXPECT_EQ(p.at("tau5").at("Lu").method, "forward");
 }
@@ -170,8 +133,8 @@ TEST(ForwardTallies, StratifiedColumnAgreesWithTheColumnSolver) {
     const fs::path scene = sceneFile("columns/stratified_60m.yaml");
     const Probes p = runProbes("stratified", readText(scene));
     const std::map<std::string, double> depths = {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}};
-    expectColumnAgreement(p, scene, depths, "5,15,25,40,59", 0.01, {"Ed"});
-    expectColumnAgreement(p, scene, depths, "5,15,25,40,59", 0.045, {"Eou"});
+    expectColumnAgreement(p, scene, depths, "5,15,25,40,59", {3, 0.01, {"Ed"}});
+    expectColumnAgreement(p, scene, depths, "5,15,25,40,59", {3, 0.045, {"Eou"}});
     for (const auto& [probe, z] : depths)
         for (const char* q : {"Ed", "Eou"}) EXPECT_EQ(p.at(probe).at(q).method, "forward") << probe << " " << q;
 }

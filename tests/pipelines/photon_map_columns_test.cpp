@@ -1,0 +1,69 @@
+// The dirsig estimator's photon maps against the column solver (column/, which shares no transport
+// code with render/) on the hard columns of issue 19 (3-D against 1-D): Mobley et al.'s problem 5
+// (Petzold water at albedo 0.9 under a Cox-Munk sea at an 80-degree sun) and the stratified column
+// to 60 m, split by depth. Problems 1 and 6 with photon maps are held to the published values in
+// mobley1993_test.cpp.
+//
+// Tolerance: the probes' standard error is the spread of 10 progressive passes (independent maps
+// and probe samples), a t statistic of 9 degrees of freedom: |t| > 4.1 once in 370 per cell, as 3
+// normal standard errors (forward_tally_test.cpp); plus the column's change from 8 to 16 streams.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "tests/support/column_reference.h"
+#include "tests/support/probe_table.h"
+#include "tests/support/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace littoral::testing_support;
+
+namespace {
+
+constexpr double kT9 = 4.1;  // two-sided 0.27 % of Student's t with 9 degrees of freedom
+
+fs::path sceneFile(const std::string& rel) { return fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / rel; }
+
+// `littoral run SCENE` with 2 threads; its probes, and what it printed in `output`.
+ProbeTable runScene(const std::string& name, const fs::path& scene, std::string* output) {
+    const fs::path dir = scratchDir("pipelines", "photon_map_columns_" + name);
+    const CommandResult r = runLittoral("-q run " + scene.string() + " --out " + (dir / "out").string() + " --threads 2");
+    EXPECT_EQ(r.status, 0) << r.output;
+    *output = r.output;
+    return readProbeTable(dir / "out");
+}
+
+}  // namespace
+
+// Problem 5 with photon maps: Ed and Eou at tau 1, 5 and 10 (measured: within 0.7-2.4 se, se
+// 1.1-1.7 % in Ed and 0.8-3.4 % in Eou). Lu is warned about, not compared: at this radius its beam
+// estimate read 14-35 % low at 1.2-6 reported se (docs/rendering.md, Known limits).
+TEST(PhotonMapColumns, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
+    const fs::path scene = sceneFile("mobley1993/problem5_photon_maps.yaml");
+    std::string output;
+    const ProbeTable p = runScene("problem5", scene, &output);
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10",
+                          {kT9, 0.025, {"Ed"}, "photon-maps"});
+    expectColumnAgreement(p, scene, {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}, "1,5,10",
+                          {kT9, 0.05, {"Eou"}, "photon-maps"});
+    EXPECT_NE(output.find("3 Lu value(s) (the first: probe 'tau1', in water of single-scattering albedo 0.90) come "
+                          "from the volume photon map"),
+              std::string::npos)
+        << output;
+}
+
+// The stratified column with photon maps split by depth (photons.depth_splitting): Ed and Eou from
+// 5 to 59 m, where Eou falls by 3 x 10^3 (measured: within 0.1-2.2 se; se 0.4-2.1 % in Ed, 0.9-3.1 %
+// in Eou; unsplit, Eou at 59 m had 13-25 %). The probe at 25 m lies on the boundary between the
+// chlorophyll maximum (b = 0.9 m^-1) and the clear deep water below (0.06): before the beam estimate
+// kept to the view ray's layer, Eou there read 10 % high at this radius (22 % at 0.4 m).
+TEST(PhotonMapColumns, StratifiedColumnSplitByDepthAgreesWithTheColumnSolver) {
+    const fs::path scene = sceneFile("columns/stratified_60m_photon_maps.yaml");
+    std::string output;
+    const ProbeTable p = runScene("stratified", scene, &output);
+    const std::map<std::string, double> depths = {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}};
+    expectColumnAgreement(p, scene, depths, "5,15,25,40,59", {kT9, 0.04, {"Ed", "Eou"}, "photon-maps"});
+}
