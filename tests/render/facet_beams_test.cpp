@@ -10,8 +10,11 @@
 // 3. Energy: under the same surface, in clear water, the mean of a probe grid's Ed equals the flux
 //    the facets transmit, per unit area (computed from the mesh alone).
 // 4. The same energy balance under a 68-degree sinusoid, whose beams cross the periodic walls.
+// 5. The floor irradiance image under the surface of 2., 8 x 8 cells at 4 m, against the surface
+//    photon map cell by cell, and its mean against the transmitted flux and the flat-water value.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -21,6 +24,7 @@
 #include "core/units.h"
 #include "render/estimator.h"
 #include "render/facet_beams.h"
+#include "render/photon_pass.h"
 #include "render/probes.h"
 #include "render/scene.h"
 #include "tests/render/render_test_scenes.h"
@@ -141,6 +145,21 @@ Reference bruteForce(const ir::SceneIR& s, const Point3& p, double a) {
     return r;
 }
 
+// The facets' transmitted flux per unit area of the domain (side 2L), from the mesh alone:
+// sum_f E T_f cos(theta_i,f) A_f / (2L)^2 over the surface facets (material slot 0) the sun lights.
+double transmittedFluxPerArea(const ir::SceneIR& s, double L) {
+    const Vec3 ws = sunDirection(s.sun.zenith, s.sun.azimuth);
+    double flux = 0;
+    const TriMesh& m = s.meshes[0].data;
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+        if (m.faceMaterial[f] != 0) continue;
+        const Vec3 N = m.faceNormalArea(f);
+        const double area = 0.5 * length(N), cosI = dot(ws, normalize(N));
+        if (cosI > 0) flux += kE * (1 - fresnelEq42(std::acos(cosI), 1.0, kN)) * cosI * area;
+    }
+    return flux / (4 * L * L);
+}
+
 // 1. One tilted facet: a water box whose whole top is the plane z = t x (10 deg), sun 30 deg from
 // +x. Inside the beam Ed = E T cos(theta_i) / cos(theta_t) |d_z| exp(-a s); past the edge of the
 // beam cast by the facet's x = +2 edge, nothing. The probe averages 256 directions of the disc,
@@ -235,16 +254,7 @@ TEST(FacetBeams, MeanIrradianceUnderWavesIsTheTransmittedFlux) {
     const double L = 2;
     ir::SceneIR s = wavyScene(L, 4, 32, 0);
     s.render.settings.set("probe_batches", 2);
-    const Vec3 ws = sunDirection(s.sun.zenith, s.sun.azimuth);
-    double flux = 0;
-    const TriMesh& m = s.meshes[0].data;
-    for (size_t f = 0; f < m.triangles.size(); ++f) {
-        if (m.faceMaterial[f] != 0) continue;
-        const Vec3 N = m.faceNormalArea(f);
-        const double area = 0.5 * length(N), cosI = dot(ws, normalize(N));
-        if (cosI > 0) flux += kE * (1 - fresnelEq42(std::acos(cosI), 1.0, kN)) * cosI * area;
-    }
-    const double expected = flux / (4 * L * L);
+    const double expected = transmittedFluxPerArea(s, L);
     std::mt19937_64 rng(2026);
     std::uniform_real_distribution<double> u(-L, L);
     for (int k = 0; k < 100000; ++k) s.probes.push_back(edProbe("g" + std::to_string(k), {u(rng), u(rng), -1.5}));
@@ -353,6 +363,101 @@ TEST(FacetBeams, ProbeValuesWithAStandardErrorAboveHalfTheirValueAreWarnedAbout)
     ::testing::internal::CaptureStderr();
     EXPECT_EQ(warnAboutUncertainProbes({values[0], values[1]}, {Band{0.5, 0.6}}), 0);
     EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+}
+
+
+// 5. The floor irradiance image under waves, cell by cell, against the surface photon map (issue
+// 18, "Energy"). The surface of 2. over clear water and a floor at 4 m that stores photons
+// (reflectance 0, SurfacePM); the sun at 30 deg. The floor is cut into 8 x 8 cells of 0.5 m:
+// the photon map's irradiance of a cell is its photons' flux over the cell's area (no kernel, so
+// no radius bias), with the standard error of that sum (the photons' powers are independent
+// draws: se^2 = sum p^2); the beams' is the mean of the sun connection's direct Ed over 8000
+// uniform points of the cell, with the spread of those values over sqrt(8000) (the waves focus the
+// light at 4 m into caustics: single points spread by up to 3 times their cell's mean). Every cell within 4
+// combined standard errors (64 cells: a false failure about once in 250 runs), each error under
+// 3 % so that the check bites. The mean over the whole floor must equal the facets' transmitted
+// flux per area (from the mesh alone, as in 3.), and the flat-water value E cos(theta) T(theta)
+// within 0.5 % (the waves only redirect the light: what their slopes change in the Fresnel
+// transmittance is printed).
+TEST(FacetBeams, FloorIrradianceImageAgreesWithTheSurfacePhotonMapCellByCell) {
+    const double L = 2, depth = 4;
+    ir::SceneIR s = wavyScene(L, depth, 32, 0);
+    // The slab's floor (named "black" in wavyScene's mesh) becomes a photon-storing floor of reflectance 0.
+    s.materials[1] = material("black", M::Type::Lambertian, M::Solver::SurfacePM, 0.0);
+    const Scene scene(s, ".");
+    // The photon map's floor, binned.
+    constexpr int kCells = 8;
+    const double cell = 2 * L / kCells;
+    PhotonPassSettings ps;
+    ps.surfaceTarget = 400000;
+    ps.progress = false;
+    ps.importance = false;
+    ps.cellSize = 0.5;
+    ps.surfaceMaterial = {false, true, false};
+    ps.volumeMedium.assign(scene.media().size(), false);
+    const PhotonMaps maps = tracePhotons(scene, BandGroup{0, 1}, ps);
+    ASSERT_GT(maps.surface.size(), 300000u);
+    std::vector<double> pm(kCells * kCells, 0.0), pmVar(kCells * kCells, 0.0);
+    const double scale = maps.surface.fluxScale[0] / (cell * cell);
+    for (size_t i = 0; i < maps.surface.size(); ++i) {
+        const Point3 x = maps.surface.position(i);
+        ASSERT_NEAR(x.z, -depth, 1e-3);
+        const int cx = std::clamp(static_cast<int>((x.x + L) / cell), 0, kCells - 1);
+        const int cy = std::clamp(static_cast<int>((x.y + L) / cell), 0, kCells - 1);
+        const double v = maps.surface.power(i, 0) * scale;
+        pm[cy * kCells + cx] += v, pmVar[cy * kCells + cx] += v * v;
+    }
+    // The beams' floor: the sun connection's direct estimate just above it (in the same scene with
+    // its black floor: the estimator set of the photon-storing one would trace the maps again).
+    const ir::SceneIR beamsIR = wavyScene(L, depth, 32, 0);
+    const Scene beams(beamsIR, ".");
+    const EstimatorSet est(beams);
+    const SunConnection& sun = est.forGroup(0).sun();
+    const int water = beams.mediumIndex("water", "the test");
+    ASSERT_GE(water, 0);
+    std::mt19937_64 rng(18);
+    std::uniform_real_distribution<double> u(0, 1);
+    constexpr int kPoints = 8000;
+    double beamSum = 0, pmSum = 0, allSq = 0;
+    int worst = 0;
+    double worstZ = 0;
+    for (int c = 0; c < kCells * kCells; ++c) {
+        double sum = 0, sq = 0;
+        for (int k = 0; k < kPoints; ++k) {
+            const Point3 p{-L + cell * (c % kCells + u(rng)), -L + cell * (c / kCells + u(rng)), -depth + 1e-3};
+            RandomStream stream(2026, 5, static_cast<uint64_t>(c * kPoints + k));
+            const double v = sun.direct(p, Normal3{0, 0, 1}, water, false, stream)[0];
+            sum += v, sq += v * v;
+        }
+        allSq += sq;
+        const double beam = sum / kPoints, beamSe = std::sqrt((sq / kPoints - beam * beam) / (kPoints - 1));
+        const double pmSe = std::sqrt(pmVar[c]), se = std::hypot(beamSe, pmSe);
+        EXPECT_NEAR(pm[c], beam, 4 * se) << "cell " << c % kCells << ", " << c / kCells;
+        EXPECT_LT(beamSe, 0.03 * beam) << "cell " << c;
+        EXPECT_LT(pmSe, 0.03 * pm[c]) << "cell " << c;
+        if (std::abs(pm[c] - beam) / se > worstZ) worstZ = std::abs(pm[c] - beam) / se, worst = c;
+        beamSum += beam, pmSum += pm[c];
+    }
+    const double n = kCells * kCells, beamMean = beamSum / n, pmMean = pmSum / n;
+    // The facets' transmitted flux per area, and the flat-water value.
+    const double transmitted = transmittedFluxPerArea(s, L);
+    const double flat = kE * std::cos(s.sun.zenith) * (1 - fresnelEq42(s.sun.zenith, 1.0, kN));
+    // The whole floor's means. The photons carry equal power (no absorption, importance off) and
+    // each emitted one is stored or not by the Fresnel draw (stored share q of N emitted): the
+    // photon map's relative error is sqrt((1 - q) / (q N)), about 0.02 %. The beams': the points'
+    // spread over sqrt(512000). 4 of the two combined.
+    const double points = n * kPoints;
+    const double q = static_cast<double>(maps.surface.size()) / static_cast<double>(maps.emitted);
+    const double beamSpread = std::sqrt(std::max(0.0, allSq / points - beamMean * beamMean));
+    const double meanSe = std::hypot(pmMean * std::sqrt((1 - q) / (q * static_cast<double>(maps.emitted))),
+                                     beamSpread / std::sqrt(points));
+    EXPECT_NEAR(pmMean, transmitted, 4 * meanSe);
+    EXPECT_NEAR(beamMean, transmitted, 4 * meanSe);
+    EXPECT_NEAR(beamMean, flat, 0.005 * flat);
+    std::printf("[ facet beams ] floor at %.0f m, 64 cells: beams %.2f, photon map %.2f (se of the means %.2f), "
+                "transmitted flux %.2f, flat water %.2f (flux / flat - 1 = %+.3f %%); largest cell gap %.1f combined "
+                "se (cell %d)\n",
+                depth, beamMean, pmMean, meanSe, transmitted, flat, 100 * (transmitted / flat - 1), worstZ, worst);
 }
 
 }  // namespace
