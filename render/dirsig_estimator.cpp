@@ -196,12 +196,12 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const PhotonMap& vm = maps_->volume;
     if (vm.size() == 0) return L;
     const Medium& md = scene_.media()[medium];
-    // An infinite ray is cut where every band's transmittance is below e^-40.
     double cMin = ir::kInfinity;
     for (const MediumLayer& l : md.layers())
         for (int i = 0; i < group_.count; ++i) cMin = std::min(cMin, l.c[group_.begin + i]);
-    // (Cut where every band's transmittance is below e^-20 = 2e-9.)
-    const double tEnd = std::min(tMax, cMin > 0 ? 20.0 / cMin : 1e4);
+    // Cut where every band's transmittance is below e^-12 = 6e-6 in the clearest layer; what lies
+    // beyond adds at most that share of the in-scatter seen so far in a homogeneous medium.
+    const double tEnd = std::min(tMax, cMin > 0 ? 12.0 / cMin : 1e4);
     const double inv = 1.0 / (kPi * rV_ * rV_);
     const bool eff = effectiveExtinction(medium);
     const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
@@ -222,6 +222,9 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
         // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
         // the step crosses a layer boundary, where the walk is used).
         const Spec T0 = md.transmittance(ray, t0, group_, eff);
+        // Past e^-12 in every band (through a dense layer, long before the cut by the clearest layer's
+        // c above) nothing more counts.
+        if (T0.maxValue() < 6e-6) break;
         const int l0 = md.layerAt(ray.at(t0).z), l1 = md.layerAt(ray.at(t1).z);
         const MediumLayer& layer = md.layers()[l0];
         const Point3 a = ray.at(t0), b = ray.at(t1);
