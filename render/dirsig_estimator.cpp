@@ -235,8 +235,9 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
             const Point3 x = vm.position(i);
             // A layer boundary cuts the disc like a surface: only photons of the layer the ray is in
             // at t count, over the share of the disc on that layer's side.
+            const double zc = ray.at(t).z;
             const int li = layered ? md.layerAt(x.z) : 0;
-            const int lc = !layered ? 0 : l0 == l1 ? l0 : md.layerAt(ray.at(t).z);
+            const int lc = !layered ? 0 : l0 == l1 ? l0 : md.layerAt(zc);
             if (li != lc) return;
             Spec p = md.phase(li, group_, vm.direction(i), toEye);
             if (eff) {
@@ -259,7 +260,7 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
             } else {
                 T = md.transmittance(ray, t, group_, eff);
             }
-            double cut = layered ? layerDiscFraction(md, lc, ray.at(t).z, sinToVertical, rV_) : 1.0;
+            double cut = layered ? layerDiscFraction(md, lc, zc, sinToVertical, rV_) : 1.0;
             if (cutEnd && std::isfinite(kEnd)) cut *= discFractionInside(kEnd * (tMax - t), rV_);
             if (cutStart && std::isfinite(kStart)) cut *= discFractionInside(kStart * t, rV_);
             const double wgt = inv / cut;

@@ -403,10 +403,14 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
 // so a run of 10^4-10^5 paths can read low by more than its reported standard error says (Mobley et
 // al.'s problem 2, Petzold at albedo 0.9: 9-13 % low at 2.1-2.5 reported se with 25 000-200 000
 // paths). At albedo 0.2 (problem 6) they meet the published values; 0.5 is the threshold between.
-// The band-mean albedo at the probe, or 0 where the limit does not apply.
-double heavyTailedLuAlbedo(const Scene& scene, const ir::Probe& probe) {
+// The dirsig estimator's Lu from the volume photon map is heavy-tailed in the same water (it applies
+// where the probe's medium is MediumPM). The band-mean albedo at the probe, or 0 where the limit does
+// not apply.
+double heavyTailedLuAlbedo(const Scene& scene, const RenderConfig& cfg, const ir::Probe& probe) {
     const int medium = scene.mediumIndex(probe.medium, fmt::format("probe '{}' medium", probe.name));
     if (medium <= 0) return 0;
+    const size_t pm = static_cast<size_t>(medium - 1);
+    if (cfg.estimator == ir::Estimator::Dirsig && (pm >= cfg.mediumPM.size() || !cfg.mediumPM[pm])) return 0;
     const Medium& md = scene.media()[static_cast<size_t>(medium)];
     if (!md.scattering() || !md.forwardPeaked()) return 0;
     const MediumLayer& l = md.layers()[static_cast<size_t>(md.layerAt(probe.position.z))];
@@ -474,24 +478,13 @@ std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& e
     const auto& probes = scene.ir().probes;
     const RenderConfig& cfg = estimators.config();
     const bool warn = estimators.pass() == 1;
-    // Lu that the estimator answers in a heavy-tailed way: backward paths, or the volume map of
-    // the probe's medium (warned about once).
-    auto heavyTailed = [&](const ir::Probe& probe, const ProbeValue& pv) {
-        if (pv.quantity != "Lu" || pv.method != "backward") return 0.0;
-        if (cfg.estimator == ir::Estimator::Dirsig) {
-            const int m = scene.mediumIndex(probe.medium, fmt::format("probe '{}' medium", probe.name));
-            if (m <= 0 || static_cast<size_t>(m - 1) >= cfg.mediumPM.size() || !cfg.mediumPM[static_cast<size_t>(m - 1)])
-                return 0.0;
-        }
-        return heavyTailedLuAlbedo(scene, probe);
-    };
-    int heavy = 0;
+    int heavy = 0;  // Lu values answered in a heavy-tailed way (warned about once)
     std::string first;
     for (size_t i = 0; i < probes.size(); ++i) {
         auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
         for (const ProbeValue& pv : v) {
-            if (!warn) continue;
-            const double albedo = heavyTailed(probes[i], pv);
+            if (!warn || pv.quantity != "Lu" || pv.method != "backward") continue;
+            const double albedo = heavyTailedLuAlbedo(scene, cfg, probes[i]);
             if (albedo > 0 && heavy++ == 0)
                 first = fmt::format("probe '{}', in water of single-scattering albedo {:.2f}", pv.probe, albedo);
         }
