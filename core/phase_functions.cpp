@@ -496,6 +496,8 @@ TabulatedPhase::TabulatedPhase(std::vector<std::pair<double, double>> table, dou
     cdf_[0] = powerLawMass_;
     for (size_t j = 0; j + 1 < t_.size(); ++j) cdf_[j + 1] = cdf_[j] + kPi * (t_[j + 1] - t_[j]) * (p_[j] + p_[j + 1]);
 
+    buildLookups();
+
     // Mean cosine = 1 - E[t]; per segment Int t 2 pi p dt in closed form, below t_0
     // Int_0^t0 t 2 pi p_0 (t/t_0)^(-a) dt = 2 pi p_0 t_0^2 / (2 - a).
     double meanT = tableStartsAtZero ? 0.0 : 2.0 * kPi * p_[0] * t_[0] * t_[0] / (2.0 - halfExponent_);
@@ -542,6 +544,40 @@ double TabulatedPhase::tableValue(double psiDeg) const {
 
 double TabulatedPhase::eval(double c) const { return evalOneMinusCos(1.0 - c); }
 
+void TabulatedPhase::buildLookups() {
+    // For each bin's lower edge, the segment holding it.
+    tLookup_.resize(kLookupBins + 1);
+    cdfLookup_.resize(kLookupBins + 1);
+    auto seg = [](const std::vector<double>& v, double x) {
+        const size_t j = static_cast<size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());
+        return static_cast<uint32_t>(std::min(j > 0 ? j - 1 : 0, v.size() - 2));
+    };
+    for (int k = 0; k <= kLookupBins; ++k) {
+        const double u = static_cast<double>(k) / kLookupBins;
+        tLookup_[static_cast<size_t>(k)] = seg(t_, 2.0 * u * u);  // t = 2 sin^2(psi / 2)
+        cdfLookup_[static_cast<size_t>(k)] = seg(cdf_, u);
+    }
+}
+
+namespace {
+// The segment j of sorted nodes v (v[j] <= x < v[j + 1], clamped to [0, v.size() - 2]) by
+// bisection between the lookup entries around bin k (one bin of margin for rounding in k).
+size_t segmentNear(const std::vector<double>& v, const std::vector<uint32_t>& lookup, int bins, double x, double u) {
+    const int k = std::clamp(static_cast<int>(u * bins), 0, bins - 1);
+    const size_t lo = lookup[static_cast<size_t>(std::max(k - 1, 0))];
+    const size_t hi = std::min<size_t>(lookup[static_cast<size_t>(std::min(k + 2, bins))] + 2, v.size());
+    size_t j = static_cast<size_t>(std::upper_bound(v.begin() + static_cast<ptrdiff_t>(lo), v.begin() + static_cast<ptrdiff_t>(hi), x) - v.begin());
+    j = j > 0 ? j - 1 : 0;
+    return std::min(j, v.size() - 2);
+}
+}  // namespace
+
+size_t TabulatedPhase::segmentOfT(double t) const {
+    return segmentNear(t_, tLookup_, kLookupBins, t, std::sqrt(0.5 * t));
+}
+
+size_t TabulatedPhase::segmentOfCdf(double q) const { return segmentNear(cdf_, cdfLookup_, kLookupBins, q, q); }
+
 double TabulatedPhase::evalOneMinusCos(double t) const {
     if (t < t_.front()) {
         if (halfExponent_ == 0.0) return p_.front();
@@ -549,8 +585,7 @@ double TabulatedPhase::evalOneMinusCos(double t) const {
         return p_.front() * std::pow(t / t_.front(), -halfExponent_);
     }
     if (t >= 2.0) return p_.back();
-    size_t j = static_cast<size_t>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1;
-    j = std::min(j, t_.size() - 2);
+    const size_t j = segmentOfT(t);
     return p_[j] + (p_[j + 1] - p_[j]) * (t - t_[j]) / (t_[j + 1] - t_[j]);
 }
 
@@ -558,8 +593,7 @@ double TabulatedPhase::forwardFraction(double t) const {
     if (!(t > 0.0)) return 0.0;
     if (t < t_.front()) return powerLawMass_ * std::pow(t / t_.front(), 1.0 - halfExponent_);
     if (t >= 2.0) return 1.0;
-    size_t j = static_cast<size_t>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1;
-    j = std::min(j, t_.size() - 2);
+    const size_t j = segmentOfT(t);
     const double s = t - t_[j];
     return cdf_[j] + kPi * s * (2.0 * p_[j] + (p_[j + 1] - p_[j]) * s / (t_[j + 1] - t_[j]));
 }
@@ -573,8 +607,7 @@ double TabulatedPhase::sampleOneMinusCos(double u) const {
         if (powerLawMass_ <= 0.0) return t_.front();
         return t_.front() * std::pow(q / powerLawMass_, 1.0 / (1.0 - halfExponent_));
     }
-    size_t j = static_cast<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), q) - cdf_.begin()) - 1;
-    j = std::min(j, t_.size() - 2);
+    const size_t j = segmentOfCdf(q);
     const double h = t_[j + 1] - t_[j];
     const double r = std::max(0.0, q - cdf_[j]);
     const double a = kPi * (p_[j + 1] - p_[j]) / h, b = 2.0 * kPi * p_[j];

@@ -191,6 +191,14 @@ private:
     double exponent_ = 0, halfExponent_ = 0;
     std::vector<double> t_, p_, cdf_;  // fine nodes, normalised density, forward fraction at t_
     double powerLawMass_ = 0;          // forward fraction below t_[0]
+    // Search accelerators: bin k of kLookupBins, uniform in sqrt(t / 2) = sin(psi / 2) (tLookup_)
+    // or in the forward fraction q (cdfLookup_), starts in node segment lookup[k]; a search is then
+    // a bisection over the few segments between lookup[k - 1] and lookup[k + 2].
+    static constexpr int kLookupBins = 2048;
+    std::vector<uint32_t> tLookup_, cdfLookup_;
+    void buildLookups();                  // from t_ and cdf_ (the constructor)
+    size_t segmentOfT(double t) const;    // j with t_[j] <= t < t_[j + 1], t in [t_[0], 2)
+    size_t segmentOfCdf(double q) const;  // j with cdf_[j] <= q < cdf_[j + 1] (clamped to the last)
     double tableNormalization_ = 1, meanCosine_ = 0;
     std::string name_;
 };

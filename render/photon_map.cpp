@@ -6,6 +6,9 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <array>
+#include <cfloat>
 #include <cstring>
 
 #include "core/error.h"
@@ -66,7 +69,7 @@ double signNotZero(double v) { return v >= 0 ? 1.0 : -1.0; }
 uint32_t quantise(double v) {  // [-1, 1] -> 16 bits, to nearest (the argument is >= 0: no lround call)
     return static_cast<uint32_t>((std::clamp(v, -1.0, 1.0) * 0.5 + 0.5) * 65535.0 + 0.5);
 }
-double dequantise(uint32_t q) { return static_cast<double>(q) / 65535.0 * 2.0 - 1.0; }
+double dequantise(uint32_t q) { return static_cast<double>(q) * (2.0 / 65535.0) - 1.0; }  // a product, not a division
 }  // namespace
 
 uint32_t encodeOctahedral(const Vec3& v) {
@@ -88,7 +91,7 @@ Vec3 decodeOctahedral(uint32_t e) {
         v.x = ox;
         v.y = oy;
     }
-    return normalize(v);
+    return v * (1.0 / std::sqrt(lengthSquared(v)));  // one division, not three
 }
 
 void PhotonMap::add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power) {
@@ -132,6 +135,7 @@ void PhotonMap::clear() {
     bucketStart_.clear();
     cell_ = 0;
     mask_ = 0;
+    dense_ = false;
 }
 
 namespace {
@@ -216,11 +220,23 @@ void PhotonMap::build(double cellSize) {
     cell_ = cellSize;
     const size_t n = size();
     LITTORAL_CHECK(n < (size_t{1} << 32));
-    // About one bucket per photon (a power of two, at least 1024).
+    // About one bucket per photon (a power of two, at least 1024), or a dense grid of the photons'
+    // box where that takes at most 2 buckets per photon (a power of two too, for the sort below):
+    // the table stays within the 8 B per photon the memory budget counts (core/render_budget.h).
     uint64_t buckets = 1024;
     while (buckets < n) buckets <<= 1;
-    mask_ = buckets - 1;
     const double inv = 1.0 / cell_;
+    dense_ = false;
+    if (n > 0 && denseGridBox(inv)) {
+        const uint64_t blocks = blockN_[0] * blockN_[1] * blockN_[2];
+        uint64_t denseBuckets = 1024;
+        while (denseBuckets < 64 * blocks) denseBuckets <<= 1;
+        if (denseBuckets <= std::max<uint64_t>(buckets, 2 * n) && denseBuckets <= (uint64_t{1} << 32)) {
+            dense_ = true;
+            buckets = denseBuckets;
+        }
+    }
+    mask_ = buckets - 1;
     // A stable two-level counting sort by bucket, in parallel and deterministic (the result does
     // not depend on the threads), that moves the records in streaming passes instead of gathering
     // them in random order (a cache miss per field and photon once the map outgrows the caches):
@@ -253,6 +269,32 @@ void PhotonMap::build(double cellSize) {
     permuteRanges(dir_, 1, parts, slot);
     permuteRanges(nrm_, 1, parts, slot);
     permuteRanges(pow_, static_cast<size_t>(bands_), parts, slot);
+}
+
+bool PhotonMap::denseGridBox(double inv) {
+    using Box = std::array<float, 6>;  // min x, y, z, then max x, y, z
+    const Box empty{FLT_MAX, FLT_MAX, FLT_MAX, -FLT_MAX, -FLT_MAX, -FLT_MAX};
+    const Box box = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, size(), 1 << 16), empty,
+        [&](const tbb::blocked_range<size_t>& r, Box b) {
+            for (size_t i = r.begin(); i != r.end(); ++i)
+                for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], pos_[3 * i + k]), b[3 + k] = std::max(b[3 + k], pos_[3 * i + k]);
+            return b;
+        },
+        [](Box a, const Box& b) {
+            for (int k = 0; k < 3; ++k) a[k] = std::min(a[k], b[k]), a[3 + k] = std::max(a[3 + k], b[3 + k]);
+            return a;
+        });
+    double blocks = 1;
+    for (int k = 0; k < 3; ++k) {
+        const double lo = std::floor(box[k] * inv), hi = std::floor(box[3 + k] * inv);
+        if (!(lo >= -1e15 && hi <= 1e15)) return false;  // far out (or not finite): hash
+        cellLo_[k] = static_cast<int64_t>(lo), cellHi_[k] = static_cast<int64_t>(hi);
+        blockLo_[k] = cellLo_[k] >> 2;
+        blockN_[k] = static_cast<uint64_t>((cellHi_[k] >> 2) - blockLo_[k] + 1);
+        blocks *= static_cast<double>(blockN_[k]);
+    }
+    return blocks <= 1e12;
 }
 
 size_t PhotonMap::memoryBytes() const { return size() * bytesPerPhoton() + bucketStart_.size() * sizeof(uint32_t); }

@@ -11,11 +11,14 @@
 // equal-flux tracing keeps near 1, keep 3 significant digits (rounding to nearest, so errors
 // average out over the hundreds of photons of a density estimate).
 //
-// The grid hashes cells of side `cellSize` (the search radius it was built for) into a table of
-// about as many buckets as photons, blocks of 4 x 4 x 4 cells to runs of 64 buckets (bucketOf);
-// photons are stored sorted by bucket, so a query walks the few bucket runs of the cells it
-// overlaps (each bucket once) and tests actual distances. Building sorts by bucket with a
-// counting sort whose order is fixed (it does not depend on threads).
+// The grid groups cells of side `cellSize` (the search radius it was built for) in blocks of
+// 4 x 4 x 4, each block a run of 64 buckets (bucketOf). Where the photons' bounding box holds few
+// enough blocks (at most 2 buckets per photon), every block has its own run: the grid is
+// dense and no two cells share a bucket. Otherwise blocks are hashed into a table of about as many
+// buckets as photons, and cells of distant blocks may share one (their photons are tested and
+// rejected by distance). Photons are stored sorted by bucket, so a query walks the few bucket runs
+// of the cells it overlaps (each bucket once) and tests actual distances. Building sorts by bucket
+// with a counting sort whose order is fixed (it does not depend on threads).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -60,6 +63,7 @@ public:
     int bands() const { return bands_; }
     bool hasNormals() const { return normals_; }
     double cellSize() const { return cell_; }
+    bool denseGrid() const { return dense_; }  // every block its own bucket run (see above)
     size_t bytesPerPhoton() const { return 16 + (normals_ ? 4 : 0) + 2 * static_cast<size_t>(bands_); }
     static size_t bytesPerPhoton(int bands, bool normals) { return 16 + (normals ? 4 : 0) + 2 * static_cast<size_t>(bands); }
     size_t memoryBytes() const;  // records plus the grid
@@ -80,6 +84,9 @@ public:
 
 private:
     uint64_t bucketOf(int64_t ix, int64_t iy, int64_t iz) const;
+    // Sets the dense grid's box (cells and blocks) from the photons' positions; false where it
+    // would not fit the indices.
+    bool denseGridBox(double inv);
     // Calls f(begin, end) once per distinct bucket of the cells in [lo, hi] for which keepCell(centre).
     template <class Keep, class F> void forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& keepCell, F&& f) const;
 
@@ -93,20 +100,30 @@ private:
     double cell_ = 0;
     uint64_t mask_ = 0;
     LargeVector<uint32_t> bucketStart_;  // size mask_ + 2
+    // A dense grid: the photons' cells span cellLo_..cellHi_ (inclusive), their blocks
+    // blockLo_ + [0, blockN_).
+    bool dense_ = false;
+    int64_t cellLo_[3] = {0, 0, 0}, cellHi_[3] = {0, 0, 0}, blockLo_[3] = {0, 0, 0};
+    uint64_t blockN_[3] = {0, 0, 0};
 };
 
 // ---------------------------------------------------------------------------------------------
 
 inline uint64_t PhotonMap::bucketOf(int64_t ix, int64_t iy, int64_t iz) const {
-    // Cells are grouped in blocks of 4 x 4 x 4. A block is hashed (Teschner et al. 2003) to a run
-    // of 64 consecutive buckets, and its cells take them in Morton order. The 27 cells of a query
-    // then fall in 1 to 8 blocks (3.4 on average), whose photons lie together in memory: a large
+    // Cells are grouped in blocks of 4 x 4 x 4. A block has a run of 64 consecutive buckets (its
+    // own in a dense grid, hashed (Teschner et al. 2003) otherwise), and its cells take them in
+    // Morton order. The 27 cells of a query then fall in 1 to 8 blocks (3.4 on average), whose photons lie together in memory: a large
     // map's query reads a few runs of records instead of 27 scattered ones.
+    const uint64_t cx = static_cast<uint64_t>(ix) & 3, cy = static_cast<uint64_t>(iy) & 3, cz = static_cast<uint64_t>(iz) & 3;
+    const uint64_t morton = (cx & 1) | ((cy & 1) << 1) | ((cz & 1) << 2) | ((cx & 2) << 2) | ((cy & 2) << 3) | ((cz & 2) << 4);
+    if (dense_) {  // the block's index in the grid's box (the cell lies in it: see forEachBucketInBox)
+        const uint64_t bx = static_cast<uint64_t>((ix >> 2) - blockLo_[0]), by = static_cast<uint64_t>((iy >> 2) - blockLo_[1]),
+                       bz = static_cast<uint64_t>((iz >> 2) - blockLo_[2]);
+        return (((bz * blockN_[1] + by) * blockN_[0] + bx) << 6) | morton;
+    }
     const uint64_t bx = static_cast<uint64_t>(ix >> 2), by = static_cast<uint64_t>(iy >> 2), bz = static_cast<uint64_t>(iz >> 2);
     uint64_t h = (bx * 73856093ull) ^ (by * 19349663ull) ^ (bz * 83492791ull);
     h ^= h >> 29;
-    const uint64_t cx = static_cast<uint64_t>(ix) & 3, cy = static_cast<uint64_t>(iy) & 3, cz = static_cast<uint64_t>(iz) & 3;
-    const uint64_t morton = (cx & 1) | ((cy & 1) << 1) | ((cz & 1) << 2) | ((cx & 2) << 2) | ((cy & 2) << 3) | ((cz & 2) << 4);
     return ((h << 6) | morton) & mask_;
 }
 
@@ -114,9 +131,15 @@ template <class Keep, class F>
 void PhotonMap::forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& keepCell, F&& f) const {
     if (pos_.empty()) return;
     const double inv = 1.0 / cell_;
-    const int64_t x0 = static_cast<int64_t>(std::floor(lo.x * inv)), x1 = static_cast<int64_t>(std::floor(hi.x * inv));
-    const int64_t y0 = static_cast<int64_t>(std::floor(lo.y * inv)), y1 = static_cast<int64_t>(std::floor(hi.y * inv));
-    const int64_t z0 = static_cast<int64_t>(std::floor(lo.z * inv)), z1 = static_cast<int64_t>(std::floor(hi.z * inv));
+    int64_t x0 = static_cast<int64_t>(std::floor(lo.x * inv)), x1 = static_cast<int64_t>(std::floor(hi.x * inv));
+    int64_t y0 = static_cast<int64_t>(std::floor(lo.y * inv)), y1 = static_cast<int64_t>(std::floor(hi.y * inv));
+    int64_t z0 = static_cast<int64_t>(std::floor(lo.z * inv)), z1 = static_cast<int64_t>(std::floor(hi.z * inv));
+    if (dense_) {  // cells outside the grid's box hold no photon
+        x0 = std::max(x0, cellLo_[0]), x1 = std::min(x1, cellHi_[0]);
+        y0 = std::max(y0, cellLo_[1]), y1 = std::min(y1, cellHi_[1]);
+        z0 = std::max(z0, cellLo_[2]), z1 = std::min(z1, cellHi_[2]);
+        if (x0 > x1 || y0 > y1 || z0 > z1) return;
+    }
     // Distinct buckets only (two cells may share one).
     uint64_t local[64];
     std::vector<uint64_t> many;
@@ -168,13 +191,17 @@ void PhotonMap::forEachNearSegment(const Point3& o, const Vec3& d, double t0, do
         const double t = std::clamp(dot(v, d), t0, t1);
         return lengthSquared(v - d * t) <= reach2;
     };
-    forEachBucketInBox(lo, hi, cellNear, [&](uint32_t bb, uint32_t e) {
+    // The segment in locals: f is opaque to the compiler, which would otherwise reload every
+    // captured value after each call.
+    const double ox = o.x, oy = o.y, oz = o.z, dx = d.x, dy = d.y, dz = d.z, ta = t0, tb = t1;
+    const float* pos = pos_.data();
+    forEachBucketInBox(lo, hi, cellNear, [&, ox, oy, oz, dx, dy, dz, ta, tb, r2, pos](uint32_t bb, uint32_t e) {
         for (uint32_t i = bb; i < e; ++i) {
-            const float* q = &pos_[3 * size_t{i}];
-            const Vec3 v{q[0] - o.x, q[1] - o.y, q[2] - o.z};
-            const double t = dot(v, d);
-            if (t < t0 || t >= t1) continue;
-            if (lengthSquared(v) - t * t <= r2) f(static_cast<size_t>(i), t);
+            const float* q = pos + 3 * size_t{i};
+            const double vx = q[0] - ox, vy = q[1] - oy, vz = q[2] - oz;
+            const double t = vx * dx + vy * dy + vz * dz;
+            if (t < ta || t >= tb) continue;
+            if (vx * vx + vy * vy + vz * vz - t * t <= r2) f(static_cast<size_t>(i), t);
         }
     });
 }

@@ -572,12 +572,12 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
                   "{} stored; the maps hold what was stored",
                   maps.emitted, maps.surface.size(), st.surfaceTarget, maps.volume.size(), st.volumeTarget);
     // Flux per photon: the total source flux over the photons emitted while filling each map.
-    auto scale = [&](PhotonMap& m, uint64_t emitted) {
+    auto scale = [&](PhotonMap& m, uint64_t emitted, double cell) {
         m.fluxScale.assign(g.count, emitted > 0 ? src.meanFlux / static_cast<double>(emitted) : 0.0);
-        m.build(st.cellSize);
+        m.build(cell);
     };
-    scale(maps.surface, maps.emittedSurface);
-    scale(maps.volume, maps.emittedVolume);
+    scale(maps.surface, maps.emittedSurface, st.surfaceCellSize);
+    scale(maps.volume, maps.emittedVolume, st.volumeCellSize);
     statCounter("photons emitted").add(static_cast<int64_t>(maps.emitted));
     statCounter("photons stored (surface)").add(static_cast<int64_t>(maps.surface.size()));
     statCounter("photons stored (volume)").add(static_cast<int64_t>(maps.volume.size()));

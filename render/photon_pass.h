@@ -87,7 +87,9 @@ struct PhotonPassSettings {
     double rouletteBelow = 1.0;
     DepthImportance depthImportance;  // splitting by depth (above); empty: none
     int maxSplit = 16;                // copies of one collision at the most
-    double cellSize = 0.4;          // grid cell of the built maps (the search radius)
+    // Grid cells of the built maps: each map's own search radius (a volume map queried with a
+    // radius far below its cell would test photons up to the cell's reach from every view ray).
+    double surfaceCellSize = 0.4, volumeCellSize = 0.4;
     int threads = 0;
     bool progress = true;
     std::vector<bool> surfaceMaterial;  // per material: stores surface photons (SurfacePM)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <tuple>
 
@@ -22,8 +23,15 @@ double straightCrossing(double cosAngle, double n1, double n2) {
 constexpr int kMaxStraightCrossings = 64;
 }  // namespace
 
+namespace {
+std::atomic<bool> gInWaterSunEstimates{true};
+}  // namespace
+
+void setInWaterSunEstimates(bool on) { gInWaterSunEstimates.store(on); }
+
 SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glossy, std::vector<bool> effective)
-    : scene_(scene), group_(group), glossy_(glossy), effective_(std::move(effective)) {
+    : scene_(scene), group_(group), glossy_(glossy), effective_(std::move(effective)),
+      inWater_(gInWaterSunEstimates.load()) {
     LITTORAL_CHECK(effective_.empty() || effective_.size() == scene.media().size());
     skyRadiance_ = bandValues(scene.sky().radiance);
     // A medium under a rough interface: the inside medium of a mesh that uses a rough material, whose
@@ -202,7 +210,7 @@ SunBeam SunConnection::along(const Point3& p, const Normal3& ng, const Vec3& dir
                              const Vec2& uDisc) const {
     SunBeam beam = none();
     const SunSource& sun = scene_.sun();
-    if (!sun.enabled) return beam;
+    if (!sun.enabled || !estimatesIn(medium)) return beam;
     if (skyMedium(medium)) {
         // In air: a straight shadow ray (through dielectric objects with their transmittance).
         if (!sun.inDisc(dir)) return beam;
@@ -377,7 +385,7 @@ SunBeam SunConnection::sample(const Point3& p, const Normal3& ng, const Vec3& fa
     const FacetBeams* beams = beamsInto(medium);
     double v1 = 0, v2 = 0;
     if (rough) v1 = rng.uniform(), v2 = rng.uniform();
-    if (!sun.enabled) return none();
+    if (!sun.enabled || !estimatesIn(medium)) return none();
     const Vec3 ws = sun.sampleDirection(u1, u2);  // uniform over the disc, pdf 1 / Omega_sun
     // Which of the beams that contain p: from u1's low 27 bits (the disc point uses its high bits),
     // so that the stream layout stays that of the flat-surface estimate (two numbers).
@@ -465,7 +473,8 @@ std::optional<Vec3> SunConnection::refractedDirection(int medium) const {
 }
 
 Spec SunConnection::direct(const Point3& p, const Normal3& n, int medium, bool scalar, RandomStream& rng) const {
-    if (const FacetBeams* fb = beamsInto(medium)) {
+    const FacetBeams* fb = beamsInto(medium);
+    if (fb && estimatesIn(medium)) {
         // Every beam that contains p, summed (not one picked): the probe's direct sun is then free
         // of noise but for the disc direction. The numbers sample() would draw, in its order.
         const double u1 = rng.uniform(), u2 = rng.uniform();

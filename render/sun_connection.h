@@ -50,8 +50,9 @@ struct SunChain {
     bool roughSun = false;       // the vertex's sun estimate was the rough-interface strategy
     bool beamSun = false;        // the vertex's sun estimate was the facet beams
     double glossyPdf = 0;        // > 0: left a glossy hit whose sun estimate covered the direct disc
+    bool noEstimate = false;     // the vertex made no sun estimate (setInWaterSunEstimates(false))
     bool countsSun() const {
-        if (fromSensor || reflected) return true;
+        if (fromSensor || reflected || noEstimate) return true;
         // In air, smooth transmissions are covered in any number (the shadow ray crosses dielectric
         // objects along the straight-path model); through facet beams exactly one.
         const bool covered = roughSun  ? roughTransmissions == 1
@@ -161,8 +162,14 @@ public:
     SunChain chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide) const;
     // The SunChain of a ray leaving a scattering vertex in `medium`.
     SunChain chainAfterVertex(int medium) const {
-        return SunChain::afterVertex(roughAbove(medium), beamsInto(medium) != nullptr);
+        SunChain c = SunChain::afterVertex(roughAbove(medium), beamsInto(medium) != nullptr);
+        c.noEstimate = !estimatesIn(medium);
+        return c;
     }
+    // Whether sample(), along() and direct() estimate the sun at points in `medium`: always in the
+    // air; in a denser medium unless setInWaterSunEstimates(false) was in force when this connection
+    // was made.
+    bool estimatesIn(int medium) const { return inWater_ || skyMedium(medium); }
     // The facet beams into `medium` (nullptr: none, or the medium lies under a rough interface or
     // is the air).
     const FacetBeams* beamsInto(int medium) const { return beams_[static_cast<size_t>(medium)].get(); }
@@ -240,6 +247,15 @@ private:
     std::vector<std::optional<RoughDielectricBxDF>> roughProto_;
     std::vector<Frame> roughFrame_;
     std::vector<std::unique_ptr<FacetBeams>> beams_;  // per medium (see beamsInto)
+    bool inWater_ = true;                             // see estimatesIn
 };
+
+// For benchmarks of the connection's worth (bench/bench_nadir_connection.cpp), not a scene
+// setting: with false, SunConnections made afterwards estimate no sun at points in water (or in any
+// medium denser than the air). The path estimator then stays unbiased, because the rays it samples
+// from those points count the solar disc when they reach it (SunChain::noEstimate), but its noise
+// is that of finding a 0.53 deg disc by chance. The dirsig estimator and the probes lose the
+// in-water direct sun: use it with the path estimator's images only. Process-wide; default true.
+void setInWaterSunEstimates(bool on);
 
 }  // namespace littoral::render

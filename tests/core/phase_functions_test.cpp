@@ -453,6 +453,40 @@ TEST(Petzold, BackscatterAndMeanCosineMatchPublished) {
                 tab->backscatterFraction(), bLog, tab->meanCosine(), ll.meanCosine, logLog.tableNormalization());
 }
 
+// The node search goes through a lookup table (bins uniform in sin(psi / 2) and in the forward
+// fraction). Whatever the bin, it must find the segment a plain bisection finds: the density is
+// the interpolant between the bracketing nodes, to rounding, at random points, at every node and
+// next to every bin edge, for Petzold's table (nodes crowded in the forward peak, many per bin)
+// and for a coarse one (many bins per node).
+TEST(TabulatedPhase, LookupFindsTheBisectionSegment) {
+    using Rows = std::vector<std::pair<double, double>>;
+    const TabulatedPhase coarse(Rows{{0.5, 40}, {3, 9}, {60, 0.2}, {180, 0.1}}, 1.2, TabulatedPhase::Interpolation::LinearInPsi, 2);
+    for (const TabulatedPhase* tab : {petzoldAverageParticleTable().get(), &coarse}) {
+        const auto& t = tab->nodesOneMinusCos();
+        const auto& p = tab->nodeValues();
+        auto brute = [&](double x) {
+            size_t j = static_cast<size_t>(std::upper_bound(t.begin(), t.end(), x) - t.begin()) - 1;
+            j = std::min(j, t.size() - 2);
+            return p[j] + (p[j + 1] - p[j]) * (x - t[j]) / (t[j + 1] - t[j]);
+        };
+        std::vector<double> xs(t.begin(), t.end() - 1);
+        for (int k = 0; k <= 2048; ++k)
+            for (double e : {-1e-15, 0.0, 1e-15}) xs.push_back(2.0 * std::pow(k / 2048.0 + e, 2));
+        RandomStream rng(3, 0, 0);
+        for (int k = 0; k < 100000; ++k) xs.push_back(t.front() + (2.0 - t.front()) * std::pow(rng.uniform(), 4));
+        for (double x : xs) {
+            if (!(x >= t.front() && x < 2.0)) continue;
+            EXPECT_NEAR(tab->evalOneMinusCos(x), brute(x), 1e-13 * brute(x)) << tab->name() << " t = " << x;
+        }
+        // The sampler's search over the forward fraction: the exact inverse at random and
+        // bin-edge u.
+        for (int k = 0; k < 20000; ++k) {
+            const double u = k < 2049 ? k / 2048.0 : rng.uniform();
+            EXPECT_NEAR(tab->forwardFraction(tab->sampleOneMinusCos(u)), 1 - u, 1e-14 + 1e-12 * (1 - u)) << tab->name() << " u = " << u;
+        }
+    }
+}
+
 TEST(TabulatedPhase, MalformedTablesAreInputErrors) {
     using Rows = std::vector<std::pair<double, double>>;
     EXPECT_THROW(TabulatedPhase(Rows{{0, 1}}, 0), InputError);

@@ -193,6 +193,15 @@ const std::vector<Case>& cases() {
         {"surface_pm_without_photons", "`solver: surface-pm` without `render.photons.surface`", kFloor,
          "{name: floor, reflectance: 0.2, solver: surface-pm}", ":6:13",
          "material 'floor': the surface-pm solver needs the surface photon map: set render.photons.surface"},
+        {"depth_splitting_path", "`render.photons.depth_splitting` with `render.estimator: path`", kRender,
+         "render: {estimator: path, probe_samples: 64, photons: {depth_splitting: true}}", ":11:73",
+         "render.photons.depth_splitting: is set, but the 'path' estimator does not read it"},
+        {"depth_splitting_no_volume_map", "`render.photons.depth_splitting` where no medium uses the volume photon map",
+         kWater + "\n", "water: {optics: {preset: coastal, solver: attenuation}}\n", ":11:79",
+         "render.photons.depth_splitting: is set, but the 'dirsig' estimator does not read it; photon maps"},
+        {"depth_splitting_not_boolean", "`render.photons.depth_splitting: maybe`", kRender,
+         "render: {probe_samples: 64, hemisphere_samples: 4, photons: {volume: 10000, depth_splitting: maybe}}", ":11:94",
+         "render.photons.depth_splitting: expected true or false, found 'maybe'"},
         {"path_material_solver", "a material `solver` with `render.estimator: path`", kFloor + "]\nsensors:",
          "{name: floor, reflectance: 0.2, solver: generic}]\nsensors:", ":6:13",
          "material 'floor': the path estimator does not use per-material solvers"},
@@ -203,6 +212,8 @@ const std::vector<Case>& cases() {
 // The second edit of a case (after from/to): the render line of path_material_solver.
 std::string secondEdit(const Case& c, std::string text) {
     if (c.name == "path_material_solver") return replacedOnce(text, kRender, "render: {estimator: path, probe_samples: 64}");
+    if (c.name == "depth_splitting_no_volume_map")
+        return replacedOnce(text, kRender, "render: {probe_samples: 64, hemisphere_samples: 4, photons: {depth_splitting: true}}");
     return text;
 }
 

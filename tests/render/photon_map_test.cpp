@@ -36,15 +36,14 @@ TEST(PhotonMap, EncodingsKeepTheirPrecision) {
     EXPECT_EQ(PhotonMap::bytesPerPhoton(4, true), 28u);
 }
 
-// Sphere and segment queries return exactly the photons a brute-force scan finds.
-TEST(PhotonMap, GridQueriesMatchBruteForce) {
-    PhotonMap m(1, false);
-    RandomStream rng(5, 0, 0);
-    for (int i = 0; i < 50000; ++i)
-        m.add({rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, -rng.uniform() * 5}, {0, 0, -1}, {0, 0, 1}, Spec(1, 1.0));
-    m.build(0.2);
+// Sphere and segment queries return exactly the photons a brute-force scan finds, in both grid
+// layouts: dense (the photons' box is small enough for every block to have its own bucket run,
+// and queries reaching outside the box are clipped to it) and hashed (two clusters 100 km apart:
+// blocks share runs, and the other cluster's photons in a shared bucket must be rejected).
+void expectQueriesMatchBruteForce(const PhotonMap& m, const std::vector<Point3>& centres, RandomStream& rng) {
     for (int q = 0; q < 100; ++q) {
-        const Point3 o{rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, -rng.uniform() * 5};
+        const Point3 c = centres[static_cast<size_t>(q) % centres.size()];
+        const Point3 o{c.x + rng.uniform() * 4.4 - 2.2, c.y + rng.uniform() * 4.4 - 2.2, c.z - rng.uniform() * 5.4 + 0.2};
         const Vec3 d = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
         const double r = 0.05 + 0.15 * rng.uniform(), t1 = rng.uniform();
         int gs = 0, bs = 0, gc = 0, bc = 0;
@@ -56,8 +55,26 @@ TEST(PhotonMap, GridQueriesMatchBruteForce) {
             const double t = dot(v, d);
             bc += t >= 0 && t < t1 && lengthSquared(v) - t * t <= r * r;
         }
-        EXPECT_EQ(gs, bs);
-        EXPECT_EQ(gc, bc);
+        EXPECT_EQ(gs, bs) << q;
+        EXPECT_EQ(gc, bc) << q;
+    }
+}
+
+TEST(PhotonMap, GridQueriesMatchBruteForce) {
+    for (const bool twoClusters : {false, true}) {
+        SCOPED_TRACE(twoClusters ? "hashed grid" : "dense grid");
+        PhotonMap m(1, false);
+        RandomStream rng(5, 0, twoClusters ? 1 : 0);
+        std::vector<Point3> centres{{0, 0, 0}};
+        if (twoClusters) centres.push_back({1e5, -3e4, 0});
+        for (int i = 0; i < 50000; ++i) {
+            const Point3 c = centres[static_cast<size_t>(i) % centres.size()];
+            m.add({c.x + rng.uniform() * 4 - 2, c.y + rng.uniform() * 4 - 2, c.z - rng.uniform() * 5}, {0, 0, -1}, {0, 0, 1},
+                  Spec(1, 1.0));
+        }
+        m.build(0.2);
+        EXPECT_EQ(m.denseGrid(), !twoClusters);
+        expectQueriesMatchBruteForce(m, centres, rng);
     }
 }
 
@@ -318,7 +335,7 @@ TEST(PhotonMapping, TiltedFacetRefractsTheSunWhereSnellSays) {
     PhotonPassSettings ps;
     ps.surfaceTarget = 80000;
     ps.progress = false;
-    ps.cellSize = 0.05;
+    ps.surfaceCellSize = ps.volumeCellSize = 0.05;
     ps.surfaceMaterial = {false, false, true};
     ps.volumeMedium = {false, false};
     const PhotonMaps maps = tracePhotons(scene, BandGroup{0, 1}, ps);
@@ -448,7 +465,7 @@ TEST(PhotonMap, SameSeedSameMapsForAnyThreadCount) {
         ps.surfaceTarget = 70000;  // several chunks and waves
         ps.threads = threads;
         ps.progress = false;
-        ps.cellSize = 0.2;
+        ps.surfaceCellSize = ps.volumeCellSize = 0.2;
         ps.surfaceMaterial.assign(s.materials.size(), true);
         ps.volumeMedium.assign(scene.media().size(), false);
         return tracePhotons(scene, BandGroup{0, 1}, ps);
