@@ -17,8 +17,11 @@
 // backward and heavy-tailed, docs/rendering.md); the column solver's own time (8 streams, mode 0)
 // is reported beside it. The photon maps are not run here: on these columns they need minutes.
 //
-// Usage: bench_mobley [SOURCE_DIR] [--columns-only]   (default: the source tree this binary was
-// configured from)
+// Part 3 (benchPhotonMapColumns below): the photon maps on problem 5 and the stratified column, at
+// their tests' settings.
+//
+// Usage: bench_mobley [SOURCE_DIR] [--columns-only | --photon-maps-only]   (default: the source tree
+// this binary was configured from; with neither flag, all three parts)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +35,8 @@
 #include "core/progress.h"
 #include "render/estimator.h"
 #include "render/probes.h"
+#include "render/render_job.h"
+#include "core/atomic_file.h"
 #include "pipelines/lib_column.h"
 #include "scenegen/assemble.h"
 #include "scenegen/scene_file.h"
@@ -135,16 +140,71 @@ void benchColumns(const fs::path& src) {
     }
 }
 
+// Part 3 (issue 19): the photon maps on the hard columns, at the settings their tests use
+// (data_synthetic/*_photon_maps.yaml: r = 0.1 m, 10 progressive passes of 250 000 volume photons,
+// 320 directions per probe), run as `littoral run` renders them (render::runRenderJob, all cores).
+// Printed: the wall time, the largest standard error over the mean among the Ed and Eou cells,
+// the largest distance from the column solver in (standard error + its 8-to-16-stream change),
+// and the time that the largest error would need to reach 1 % (the time x (se / 1 %)^2: the passes
+// are independent, so the error falls as one over their square root).
+void benchPhotonMapColumns(const fs::path& src) {
+    struct Column {
+        const char* file;
+        std::map<std::string, double> depthOfProbe;
+    };
+    const Column columns[] = {
+        {"mobley1993/problem5_photon_maps.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
+        {"columns/stratified_60m_photon_maps.yaml", {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}}},
+    };
+    std::printf("\n%-40s %10s %12s %16s %18s\n", "photon maps (Ed, Eou; vs the column)", "wall s", "largest se",
+                "largest |d| / se", "time to 1 % se (s)");
+    for (const Column& col : columns) {
+        const fs::path scene = src / "data_synthetic" / col.file;
+        const fs::path work = fs::temp_directory_path() / ("bench_mobley_pm_" + fs::path(col.file).stem().string());
+        fs::remove_all(work);
+        const auto built = scenegen::buildScene(scene.string(), work / "ir");
+        publishStagedOutputs();
+        std::vector<double> depths;
+        for (const auto& [probe, z] : col.depthOfProbe) depths.push_back(z);
+        const auto fine = solve(scene, depths, 16, nullptr), base = solve(scene, depths, 8, nullptr);
+        render::RenderJobOptions opts;
+        opts.progress = false;
+        opts.tileCheckpoint = false;
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto job = render::runRenderJob(built.ir, work / "ir", work / "out", opts);
+        const double t = seconds(t0);
+        double worstSe = 0, worstZ = 0;
+        for (const auto& v : job.probes) {
+            if (v.quantity != "Ed" && v.quantity != "Eou") continue;
+            const double z = col.depthOfProbe.at(v.probe);
+            const double ref = v.quantity == "Ed" ? fine.at(z).Ed : fine.at(z).Eou;
+            const double conv = std::abs(ref - (v.quantity == "Ed" ? base.at(z).Ed : base.at(z).Eou));
+            worstSe = std::max(worstSe, v.stderr_[0] / v.mean[0]);
+            worstZ = std::max(worstZ, std::abs(v.mean[0] - ref) / (v.stderr_[0] + conv));
+        }
+        std::printf("%-40s %10.1f %11.2f%% %16.2f %18.0f\n", col.file, t, 100 * worstSe, worstZ,
+                    t * std::pow(worstSe / 0.01, 2));
+        std::fflush(stdout);
+        fs::remove_all(work);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     Progress::setEnabled(false);
     log::setLevel(log::Level::Warn);
     render::registerEstimatorKinds();  // the scene reader reads their descriptors
-    const bool columnsOnly = argc > 1 && std::string(argv[argc - 1]) == "--columns-only";
-    const fs::path src = argc > 1 + columnsOnly ? fs::path(argv[1]) : fs::path(LITTORAL_SOURCE_DIR_BENCH);
+    const std::string last = argc > 1 ? argv[argc - 1] : "";
+    const bool columnsOnly = last == "--columns-only", photonMapsOnly = last == "--photon-maps-only";
+    const int flags = columnsOnly || photonMapsOnly;
+    const fs::path src = argc > 1 + flags ? fs::path(argv[1]) : fs::path(LITTORAL_SOURCE_DIR_BENCH);
     if (columnsOnly) {
         benchColumns(src);
+        return 0;
+    }
+    if (photonMapsOnly) {
+        benchPhotonMapColumns(src);
         return 0;
     }
     const Problem problems[] = {
@@ -190,5 +250,6 @@ int main(int argc, char** argv) {
         fs::remove_all(irDir);
     }
     benchColumns(src);
+    benchPhotonMapColumns(src);
     return 0;
 }
