@@ -11,10 +11,10 @@
 // equal-flux tracing keeps near 1, keep 3 significant digits (rounding to nearest, so errors
 // average out over the hundreds of photons of a density estimate).
 //
-// The grid groups cells of side `cellSize` (the search radius it was built for) in blocks of
-// 4 x 4 x 4, each block a run of 64 buckets (bucketOf). Where the photons' bounding box holds few
-// enough blocks (at most 2 buckets per photon), every block has its own run: the grid is
-// dense and no two cells share a bucket. Otherwise blocks are hashed into a table of about as many
+// The grid groups cells of side `cellSize` in blocks of 4 x 4 x 4, each block a run of 64 buckets
+// (bucketOf). Where the photons' bounding box holds few enough blocks (at most 2 buckets per
+// photon), every block has its own run: the grid is dense and no two cells share a bucket; its
+// cells are half the search radius it was built for if that fits, else the radius. Otherwise blocks are hashed into a table of about as many
 // buckets as photons, and cells of distant blocks may share one (their photons are tested and
 // rejected by distance). Photons are stored sorted by bucket, so a query walks the few bucket runs
 // of the cells it overlaps (each bucket once) and tests actual distances. Building sorts by bucket
@@ -55,9 +55,9 @@ public:
     // Capacity for n photons (no reallocation while adding up to n); clear() keeps the capacity.
     void reserve(size_t n);
     void clear();
-    // Sorts the photons into a hash grid of cells of side `cellSize` (> 0); queries with a radius
-    // up to cellSize visit at most 27 cells.
-    void build(double cellSize);
+    // Sorts the photons into a grid for queries of radius up to `searchRadius` (> 0): cells of half
+    // that radius in a dense grid if one fits, else of the radius (dense or hashed: see above).
+    void build(double searchRadius);
 
     size_t size() const { return pos_.size() / 3; }
     int bands() const { return bands_; }
@@ -76,7 +76,8 @@ public:
     // Flux of a photon of relative power 1 in each band, W um^-1 (set by the photon pass).
     std::vector<double> fluxScale;
 
-    // Calls f(i) for every photon within distance r of p (r <= cellSize()).
+    // Calls f(i) for every photon within distance r of p (any r; the grid is built for the radius
+    // it will be queried with).
     template <class F> void forEachInSphere(const Point3& p, double r, F&& f) const;
     // Calls f(i, t) for every photon whose perpendicular distance to the segment
     // o + t d, t in [t0, t1) (d unit) is at most r, with t its projection onto the ray.
@@ -168,7 +169,10 @@ void PhotonMap::forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& ke
 
 template <class F> void PhotonMap::forEachInSphere(const Point3& p, double r, F&& f) const {
     const double r2 = r * r;
-    forEachBucketInBox(p - Vec3{r, r, r}, p + Vec3{r, r, r}, [](const Point3&) { return true; }, [&](uint32_t b, uint32_t e) {
+    // Only cells whose centre lies within r + half a cell diagonal of p can hold a photon within r.
+    const double reach = r + 0.8660254037844386 * cell_, reach2 = reach * reach;
+    auto cellNear = [&](const Point3& c) { return lengthSquared(c - p) <= reach2; };
+    forEachBucketInBox(p - Vec3{r, r, r}, p + Vec3{r, r, r}, cellNear, [&](uint32_t b, uint32_t e) {
         for (uint32_t i = b; i < e; ++i) {
             const float* q = &pos_[3 * size_t{i}];
             const double dx = q[0] - p.x, dy = q[1] - p.y, dz = q[2] - p.z;

@@ -21,10 +21,7 @@ double straightCrossing(double cosAngle, double n1, double n2) {
     return 1.0 - fresnelDielectric(std::abs(cosAngle), std::min(n1, n2), std::max(n1, n2));
 }
 constexpr int kMaxStraightCrossings = 64;
-}  // namespace
-
-namespace {
-std::atomic<bool> gInWaterSunEstimates{true};
+std::atomic<bool> gInWaterSunEstimates{true};  // setInWaterSunEstimates
 }  // namespace
 
 void setInWaterSunEstimates(bool on) { gInWaterSunEstimates.store(on); }

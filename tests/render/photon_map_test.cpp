@@ -36,14 +36,17 @@ TEST(PhotonMap, EncodingsKeepTheirPrecision) {
     EXPECT_EQ(PhotonMap::bytesPerPhoton(4, true), 28u);
 }
 
-// Sphere and segment queries return exactly the photons a brute-force scan finds, in both grid
-// layouts: dense (the photons' box is small enough for every block to have its own bucket run,
-// and queries reaching outside the box are clipped to it) and hashed (two clusters 100 km apart:
-// blocks share runs, and the other cluster's photons in a shared bucket must be rejected).
-void expectQueriesMatchBruteForce(const PhotonMap& m, const std::vector<Point3>& centres, RandomStream& rng) {
+// Sphere and segment queries return exactly the photons a brute-force scan finds, in the three grid
+// layouts: dense with cells of the search radius (the photons' box is small enough for every block
+// to have its own bucket run, and queries reaching outside the box are clipped to it), dense with
+// cells of half the radius (the photons many per cell of the radius: 50 000 in 0.6 m x 0.6 m x
+// 0.75 m, 70 per cell of 0.2 m) and hashed (two clusters 100 km apart: blocks share runs, and the
+// other cluster's photons in a shared bucket must be rejected).
+void expectQueriesMatchBruteForce(const PhotonMap& m, const std::vector<Point3>& centres, RandomStream& rng, double scale) {
     for (int q = 0; q < 100; ++q) {
         const Point3 c = centres[static_cast<size_t>(q) % centres.size()];
-        const Point3 o{c.x + rng.uniform() * 4.4 - 2.2, c.y + rng.uniform() * 4.4 - 2.2, c.z - rng.uniform() * 5.4 + 0.2};
+        const Point3 o{c.x + scale * (rng.uniform() * 4.4 - 2.2), c.y + scale * (rng.uniform() * 4.4 - 2.2),
+                       c.z - scale * (rng.uniform() * 5.4 - 0.2)};
         const Vec3 d = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
         const double r = 0.05 + 0.15 * rng.uniform(), t1 = rng.uniform();
         int gs = 0, bs = 0, gc = 0, bc = 0;
@@ -61,20 +64,23 @@ void expectQueriesMatchBruteForce(const PhotonMap& m, const std::vector<Point3>&
 }
 
 TEST(PhotonMap, GridQueriesMatchBruteForce) {
-    for (const bool twoClusters : {false, true}) {
-        SCOPED_TRACE(twoClusters ? "hashed grid" : "dense grid");
+    enum Layout { Dense, DenseFine, Hashed };
+    for (const Layout layout : {Dense, DenseFine, Hashed}) {
+        SCOPED_TRACE(layout == Dense ? "dense grid" : layout == DenseFine ? "dense grid, fine cells" : "hashed grid");
         PhotonMap m(1, false);
-        RandomStream rng(5, 0, twoClusters ? 1 : 0);
+        RandomStream rng(5, 0, static_cast<uint64_t>(layout));
         std::vector<Point3> centres{{0, 0, 0}};
-        if (twoClusters) centres.push_back({1e5, -3e4, 0});
+        if (layout == Hashed) centres.push_back({1e5, -3e4, 0});
+        const double scale = layout == DenseFine ? 0.15 : 1.0;  // the box: 4 m x 4 m x 5 m, or 0.15 of it
         for (int i = 0; i < 50000; ++i) {
             const Point3 c = centres[static_cast<size_t>(i) % centres.size()];
-            m.add({c.x + rng.uniform() * 4 - 2, c.y + rng.uniform() * 4 - 2, c.z - rng.uniform() * 5}, {0, 0, -1}, {0, 0, 1},
-                  Spec(1, 1.0));
+            m.add({c.x + scale * (rng.uniform() * 4 - 2), c.y + scale * (rng.uniform() * 4 - 2), c.z - scale * rng.uniform() * 5},
+                  {0, 0, -1}, {0, 0, 1}, Spec(1, 1.0));
         }
         m.build(0.2);
-        EXPECT_EQ(m.denseGrid(), !twoClusters);
-        expectQueriesMatchBruteForce(m, centres, rng);
+        EXPECT_EQ(m.denseGrid(), layout != Hashed);
+        EXPECT_DOUBLE_EQ(m.cellSize(), layout == DenseFine ? 0.1 : 0.2);
+        expectQueriesMatchBruteForce(m, centres, rng, scale);
     }
 }
 
