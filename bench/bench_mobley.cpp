@@ -92,12 +92,34 @@ std::map<double, column::DepthResult> solve(const fs::path& file, const std::vec
     return m;
 }
 
+// A column scene (under data_synthetic/) and the depth of each of its probes.
+struct Column {
+    const char* file;
+    std::map<std::string, double> depthOfProbe;
+};
+
+// The column solver's Ed and Eou at a column's probe depths: 16 streams per half as the reference,
+// and their change from 8 streams as its convergence error.
+struct ColumnReference {
+    std::map<double, column::DepthResult> fine, base;
+    double solverSecs = 0;  // the 8-stream solve
+    ColumnReference(const fs::path& scene, const Column& col) {
+        std::vector<double> depths;
+        for (const auto& [probe, z] : col.depthOfProbe) depths.push_back(z);
+        fine = solve(scene, depths, 16, nullptr);
+        base = solve(scene, depths, 8, &solverSecs);
+    }
+    // {reference, convergence error} for an Ed or Eou value of the column's probe.
+    std::pair<double, double> at(const Column& col, const render::ProbeValue& v) const {
+        const double z = col.depthOfProbe.at(v.probe);
+        const bool ed = v.quantity == "Ed";
+        const double ref = ed ? fine.at(z).Ed : fine.at(z).Eou;
+        return {ref, std::abs(ref - (ed ? base.at(z).Ed : base.at(z).Eou))};
+    }
+};
+
 // Part 2: the hard columns against the column solver (see the top of this file).
 void benchColumns(const fs::path& src) {
-    struct Column {
-        const char* file;
-        std::map<std::string, double> depthOfProbe;
-    };
     const Column columns[] = {
         {"mobley1993/problem2_albedo09.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
         {"mobley1993/problem5.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
@@ -109,10 +131,7 @@ void benchColumns(const fs::path& src) {
         const fs::path scene = src / "data_synthetic" / col.file;
         const fs::path irDir = fs::temp_directory_path() / ("bench_mobley_" + fs::path(col.file).stem().string());
         const auto built = scenegen::buildScene(scene.string(), irDir);
-        std::vector<double> depths;
-        for (const auto& [probe, z] : col.depthOfProbe) depths.push_back(z);
-        double solverSecs = 0;
-        const auto fine = solve(scene, depths, 16, nullptr), base = solve(scene, depths, 8, &solverSecs);
+        const ColumnReference reference(scene, col);
         double total = 0;
         for (int64_t photons = 62500; photons <= 64000000; photons *= 2) {
             ir::SceneIR ir = built.ir;
@@ -124,15 +143,13 @@ void benchColumns(const fs::path& src) {
             double t = 0;
             int passing = 0, cells = 0;
             for (const auto& v : timedProbes(ir, irDir, &t, render::evaluateProbes)) {
-                const double z = col.depthOfProbe.at(v.probe);
-                const double ref = v.quantity == "Ed" ? fine.at(z).Ed : fine.at(z).Eou;
-                const double conv = std::abs(ref - (v.quantity == "Ed" ? base.at(z).Ed : base.at(z).Eou));
+                const auto [ref, conv] = reference.at(col, v);
                 passing += std::abs(v.mean[0] - ref) <= 3 * v.stderr_[0] + conv && v.stderr_[0] <= 0.01 * v.mean[0];
                 ++cells;
             }
             total += t;
             std::printf("%-34s %12lld %12.2f %14.2f %-16s %.3f\n", col.file, static_cast<long long>(photons), t, total,
-                        (std::to_string(passing) + " / " + std::to_string(cells)).c_str(), solverSecs);
+                        (std::to_string(passing) + " / " + std::to_string(cells)).c_str(), reference.solverSecs);
             std::fflush(stdout);
             if (passing == cells) break;
         }
@@ -148,10 +165,6 @@ void benchColumns(const fs::path& src) {
 // and the time that the largest error would need to reach 1 % (the time x (se / 1 %)^2: the passes
 // are independent, so the error falls as one over their square root).
 void benchPhotonMapColumns(const fs::path& src) {
-    struct Column {
-        const char* file;
-        std::map<std::string, double> depthOfProbe;
-    };
     const Column columns[] = {
         {"mobley1993/problem5_photon_maps.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
         {"columns/stratified_60m_photon_maps.yaml", {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}}},
@@ -164,9 +177,7 @@ void benchPhotonMapColumns(const fs::path& src) {
         fs::remove_all(work);
         const auto built = scenegen::buildScene(scene.string(), work / "ir");
         publishStagedOutputs();
-        std::vector<double> depths;
-        for (const auto& [probe, z] : col.depthOfProbe) depths.push_back(z);
-        const auto fine = solve(scene, depths, 16, nullptr), base = solve(scene, depths, 8, nullptr);
+        const ColumnReference reference(scene, col);
         render::RenderJobOptions opts;
         opts.progress = false;
         opts.tileCheckpoint = false;
@@ -176,9 +187,7 @@ void benchPhotonMapColumns(const fs::path& src) {
         double worstSe = 0, worstZ = 0;
         for (const auto& v : job.probes) {
             if (v.quantity != "Ed" && v.quantity != "Eou") continue;
-            const double z = col.depthOfProbe.at(v.probe);
-            const double ref = v.quantity == "Ed" ? fine.at(z).Ed : fine.at(z).Eou;
-            const double conv = std::abs(ref - (v.quantity == "Ed" ? base.at(z).Ed : base.at(z).Eou));
+            const auto [ref, conv] = reference.at(col, v);
             worstSe = std::max(worstSe, v.stderr_[0] / v.mean[0]);
             worstZ = std::max(worstZ, std::abs(v.mean[0] - ref) / (v.stderr_[0] + conv));
         }

@@ -132,7 +132,7 @@ void throughput(bool quick, int threads) {
     const uint64_t target = quick ? 500'000 : 4'000'000;
     PhotonPassSettings ps;
     ps.volumeTarget = target;
-    ps.surfaceCellSize = ps.volumeCellSize = 0.4;
+    ps.surfaceRadius = ps.volumeRadius = 0.4;
     ps.threads = threads;
     ps.progress = false;
     ps.volumeMedium.assign(scene.media().size(), false);

@@ -400,8 +400,8 @@ EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progr
             ps.importance = config_.photonImportance;
             ps.seed = scene.ir().render.seed;
             ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);
-            ps.surfaceCellSize = config_.radiusAt(config_.surfaceRadius, pass);
-            ps.volumeCellSize = config_.radiusAt(config_.volumeRadius, pass);
+            ps.surfaceRadius = config_.radiusAt(config_.surfaceRadius, pass);
+            ps.volumeRadius = config_.radiusAt(config_.volumeRadius, pass);
             ps.threads = threads;
             ps.progress = progress;
             ps.maxEmitted = maxPhotonsEmitted;

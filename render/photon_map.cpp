@@ -7,8 +7,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <array>
-#include <cfloat>
 #include <cstring>
 
 #include "core/error.h"
@@ -229,9 +227,10 @@ void PhotonMap::build(double searchRadius) {
     uint64_t buckets = 1024;
     while (buckets < n) buckets <<= 1;
     dense_ = false;
+    const BBox3 box = n > 0 ? positionBox() : BBox3{};
     for (const double cell : {0.5 * searchRadius, searchRadius}) {
         cell_ = cell;
-        if (n == 0 || !denseGridBox(1.0 / cell_)) continue;
+        if (n == 0 || !denseGridBox(box, 1.0 / cell_)) continue;
         if (cell < searchRadius) {
             double cellsOfRadius = 1;  // the box's volume in cells of the radius
             for (int k = 0; k < 3; ++k) cellsOfRadius *= static_cast<double>(cellHi_[k] - cellLo_[k] + 1) * 0.5;
@@ -246,7 +245,7 @@ void PhotonMap::build(double searchRadius) {
             break;
         }
     }
-    const double inv = 1.0 / cell_;  // the radius's cells when the grid is hashed
+    const double inv = 1.0 / cell_;  // the cells chosen above (the radius's when the grid is hashed)
     mask_ = buckets - 1;
     // A stable two-level counting sort by bucket, in parallel and deterministic (the result does
     // not depend on the threads), that moves the records in streaming passes instead of gathering
@@ -282,23 +281,23 @@ void PhotonMap::build(double searchRadius) {
     permuteRanges(pow_, static_cast<size_t>(bands_), parts, slot);
 }
 
-bool PhotonMap::denseGridBox(double inv) {
-    using Box = std::array<float, 6>;  // min x, y, z, then max x, y, z
-    const Box empty{FLT_MAX, FLT_MAX, FLT_MAX, -FLT_MAX, -FLT_MAX, -FLT_MAX};
-    const Box box = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, size(), 1 << 16), empty,
-        [&](const tbb::blocked_range<size_t>& r, Box b) {
-            for (size_t i = r.begin(); i != r.end(); ++i)
-                for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], pos_[3 * i + k]), b[3 + k] = std::max(b[3 + k], pos_[3 * i + k]);
+BBox3 PhotonMap::positionBox() const {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, size(), 1 << 16), BBox3{},
+        [&](const tbb::blocked_range<size_t>& r, BBox3 b) {
+            for (size_t i = r.begin(); i != r.end(); ++i) b.expand(position(i));
             return b;
         },
-        [](Box a, const Box& b) {
-            for (int k = 0; k < 3; ++k) a[k] = std::min(a[k], b[k]), a[3 + k] = std::max(a[3 + k], b[3 + k]);
+        [](BBox3 a, const BBox3& b) {
+            a.expand(b);
             return a;
         });
+}
+
+bool PhotonMap::denseGridBox(const BBox3& box, double inv) {
     double blocks = 1;
     for (int k = 0; k < 3; ++k) {
-        const double lo = std::floor(box[k] * inv), hi = std::floor(box[3 + k] * inv);
+        const double lo = std::floor(box.lo[k] * inv), hi = std::floor(box.hi[k] * inv);
         if (!(lo >= -1e15 && hi <= 1e15)) return false;  // far out (or not finite): hash
         cellLo_[k] = static_cast<int64_t>(lo), cellHi_[k] = static_cast<int64_t>(hi);
         blockLo_[k] = cellLo_[k] >> 2;

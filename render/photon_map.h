@@ -14,9 +14,10 @@
 // The grid groups cells of side `cellSize` in blocks of 4 x 4 x 4, each block a run of 64 buckets
 // (bucketOf). Where the photons' bounding box holds few enough blocks (at most 2 buckets per
 // photon), every block has its own run: the grid is dense and no two cells share a bucket; its
-// cells are half the search radius it was built for if that fits, else the radius. Otherwise blocks are hashed into a table of about as many
-// buckets as photons, and cells of distant blocks may share one (their photons are tested and
-// rejected by distance). Photons are stored sorted by bucket, so a query walks the few bucket runs
+// cells are half the search radius it was built for where that fits and the photons are many per
+// cell of the radius (build()), else the radius. Otherwise blocks are hashed into a table of about
+// as many buckets as photons, and cells of distant blocks may share one (their photons are tested
+// and rejected by distance). Photons are stored sorted by bucket, so a query walks the few bucket runs
 // of the cells it overlaps (each bucket once) and tests actual distances. Building sorts by bucket
 // with a counting sort whose order is fixed (it does not depend on threads).
 #include <algorithm>
@@ -56,7 +57,7 @@ public:
     void reserve(size_t n);
     void clear();
     // Sorts the photons into a grid for queries of radius up to `searchRadius` (> 0): cells of half
-    // that radius in a dense grid if one fits, else of the radius (dense or hashed: see above).
+    // that radius in a dense grid of full cells, else of the radius (dense or hashed: see above).
     void build(double searchRadius);
 
     size_t size() const { return pos_.size() / 3; }
@@ -85,9 +86,10 @@ public:
 
 private:
     uint64_t bucketOf(int64_t ix, int64_t iy, int64_t iz) const;
-    // Sets the dense grid's box (cells and blocks) from the photons' positions; false where it
-    // would not fit the indices.
-    bool denseGridBox(double inv);
+    BBox3 positionBox() const;  // the photons' bounding box
+    // Sets the dense grid's cells and blocks for that box and cells of side 1 / inv; false where
+    // they would not fit the indices.
+    bool denseGridBox(const BBox3& box, double inv);
     // Calls f(begin, end) once per distinct bucket of the cells in [lo, hi] for which keepCell(centre).
     template <class Keep, class F> void forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& keepCell, F&& f) const;
 

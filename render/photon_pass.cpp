@@ -572,12 +572,12 @@ PhotonMaps tracePhotons(const Scene& scene, BandGroup g, const PhotonPassSetting
                   "{} stored; the maps hold what was stored",
                   maps.emitted, maps.surface.size(), st.surfaceTarget, maps.volume.size(), st.volumeTarget);
     // Flux per photon: the total source flux over the photons emitted while filling each map.
-    auto scale = [&](PhotonMap& m, uint64_t emitted, double cell) {
+    auto scale = [&](PhotonMap& m, uint64_t emitted, double radius) {
         m.fluxScale.assign(g.count, emitted > 0 ? src.meanFlux / static_cast<double>(emitted) : 0.0);
-        m.build(cell);
+        m.build(radius);
     };
-    scale(maps.surface, maps.emittedSurface, st.surfaceCellSize);
-    scale(maps.volume, maps.emittedVolume, st.volumeCellSize);
+    scale(maps.surface, maps.emittedSurface, st.surfaceRadius);
+    scale(maps.volume, maps.emittedVolume, st.volumeRadius);
     statCounter("photons emitted").add(static_cast<int64_t>(maps.emitted));
     statCounter("photons stored (surface)").add(static_cast<int64_t>(maps.surface.size()));
     statCounter("photons stored (volume)").add(static_cast<int64_t>(maps.volume.size()));

@@ -87,9 +87,9 @@ struct PhotonPassSettings {
     double rouletteBelow = 1.0;
     DepthImportance depthImportance;  // splitting by depth (above); empty: none
     int maxSplit = 16;                // copies of one collision at the most
-    // Grid cells of the built maps: each map's own search radius (a volume map queried with a
-    // radius far below its cell would test photons up to the cell's reach from every view ray).
-    double surfaceCellSize = 0.4, volumeCellSize = 0.4;
+    // The search radius each built map's grid is made for (PhotonMap::build): a map whose cells
+    // were far larger than its queries' radius would test photons up to a cell's reach from them.
+    double surfaceRadius = 0.4, volumeRadius = 0.4;
     int threads = 0;
     bool progress = true;
     std::vector<bool> surfaceMaterial;  // per material: stores surface photons (SurfacePM)

@@ -248,7 +248,7 @@ TEST(DielectricObject, CausticLandsWhereRefractionPutsIt) {
     render::PhotonPassSettings ps;
     ps.surfaceTarget = 2000000;
     ps.progress = false;
-    ps.surfaceCellSize = ps.volumeCellSize = 0.1;
+    ps.surfaceRadius = ps.volumeRadius = 0.1;
     for (const auto& m : built.ir.materials) ps.surfaceMaterial.push_back(m.name == "floor");
     ps.volumeMedium.assign(scene.media().size(), false);
     const auto maps = render::tracePhotons(scene, render::BandGroup{0, 1}, ps);

@@ -57,7 +57,7 @@ std::pair<double, size_t> floorIrradiance(const std::string& surface, const std:
     render::PhotonPassSettings ps;
     ps.surfaceTarget = 400000;
     ps.progress = false;
-    ps.surfaceCellSize = ps.volumeCellSize = 0.5;
+    ps.surfaceRadius = ps.volumeRadius = 0.5;
     for (const auto& m : built.ir.materials) ps.surfaceMaterial.push_back(m.name == "floor");
     ps.volumeMedium.assign(scene.media().size(), false);
     const auto maps = render::tracePhotons(scene, render::BandGroup{0, 1}, ps);

@@ -396,7 +396,7 @@ TEST(FacetBeams, FloorIrradianceImageAgreesWithTheSurfacePhotonMapCellByCell) {
     ps.surfaceTarget = 400000;
     ps.progress = false;
     ps.importance = false;
-    ps.surfaceCellSize = ps.volumeCellSize = 0.5;
+    ps.surfaceRadius = ps.volumeRadius = 0.5;
     ps.surfaceMaterial = {false, true, false};
     ps.volumeMedium.assign(scene.media().size(), false);
     const PhotonMaps maps = tracePhotons(scene, BandGroup{0, 1}, ps);

@@ -341,7 +341,7 @@ TEST(PhotonMapping, TiltedFacetRefractsTheSunWhereSnellSays) {
     PhotonPassSettings ps;
     ps.surfaceTarget = 80000;
     ps.progress = false;
-    ps.surfaceCellSize = ps.volumeCellSize = 0.05;
+    ps.surfaceRadius = ps.volumeRadius = 0.05;
     ps.surfaceMaterial = {false, false, true};
     ps.volumeMedium = {false, false};
     const PhotonMaps maps = tracePhotons(scene, BandGroup{0, 1}, ps);
@@ -471,7 +471,7 @@ TEST(PhotonMap, SameSeedSameMapsForAnyThreadCount) {
         ps.surfaceTarget = 70000;  // several chunks and waves
         ps.threads = threads;
         ps.progress = false;
-        ps.surfaceCellSize = ps.volumeCellSize = 0.2;
+        ps.surfaceRadius = ps.volumeRadius = 0.2;
         ps.surfaceMaterial.assign(s.materials.size(), true);
         ps.volumeMedium.assign(scene.media().size(), false);
         return tracePhotons(scene, BandGroup{0, 1}, ps);
