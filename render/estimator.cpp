@@ -371,7 +371,7 @@ std::vector<BandGroup> bandGroups(const Scene& scene) {
 Estimator::Estimator(const Scene& scene, const RenderConfig& config, BandGroup group,
                      std::vector<bool> effectiveExtinction)
     : scene_(scene), config_(config), group_(group),
-      sun_(scene, group, config.glossySun, std::move(effectiveExtinction)) {
+      sun_(scene, group, config.glossySun, std::move(effectiveExtinction), config.estimator == ir::Estimator::Dirsig) {
     LITTORAL_CHECK(group.count >= 1 && group.count <= kMaxGroupBands);
     LITTORAL_CHECK(group.begin >= 0 && group.begin + group.count <= scene.bandCount());
     LITTORAL_CHECK_EQ(config.solvers.size(), scene.materials().size());

@@ -8,6 +8,7 @@
 #include "core/frame.h"
 #include "core/log.h"
 #include "core/units.h"
+#include "render/bxdf_types.h"
 #include "render/scene.h"
 
 namespace littoral::render {
@@ -18,9 +19,8 @@ constexpr int kRim = 8;                 // disc rim directions sampled for a foo
 constexpr double kRimMargin = 1.15;     // the rim's polygon inscribes the disc: widen it
 constexpr int kMaxSlabs = 128;
 constexpr double kMaxCells = 1 << 22;     // 16 MB of cell offsets
-constexpr double kMaxEntries = 1 << 25;   // 128 MB of facet lists
+constexpr double kMaxEntries = 1 << 23;   // 96 MB of facet lists (12 B each)
 constexpr int kMaxCellsPerAxis = 4096;
-constexpr double kMinBeamSlope = 0.1;   // |d.z|: beams closer to horizontal are not indexed
 
 // The directions whose footprints bound a facet's beams over the disc: the centre and the rim.
 std::array<Vec3, kRim + 1> discDirections(const Vec3& sun, double halfAngle) {
@@ -39,9 +39,9 @@ double wrapInto(double v, double lo, double period) { return v - period * std::f
 
 }  // namespace
 
-FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vector<bool>& skyMedia, const Vec3& sunDir,
-                       double halfAngle)
-    : eta_(1.0 / n), periodic_(scene.domain().periodic) {
+FacetBeams::FacetBeams(const Scene& scene, int medium, const std::vector<double>& index,
+                       const std::vector<bool>& skyMedia, const Vec3& sunDir, double halfAngle, int maxOrder)
+    : eta_(1.0 / index[static_cast<size_t>(medium)]), periodic_(scene.domain().periodic) {
     const ir::Domain& dom = scene.domain();
     px_ = dom.x1 - dom.x0, py_ = dom.y1 - dom.y0;
     auto sky = [&](int m) { return skyMedia[static_cast<size_t>(m)]; };
@@ -72,8 +72,328 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, double n, const std::vect
         facets_.push_back({a, b, c, nAir, mesh, inst, face, extent, extent > 0.25 * std::min(px_, py_)});
         horizontal_ = horizontal_ && std::abs(nAir.z) >= 1 - 1e-12;
     });
-    // Flat water is not indexed: its beams are the straight path's, which SunConnection traces.
-    if (!facets_.empty() && !horizontal_) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
+    // Flat water without objects is not indexed: its beams are the straight path's, which
+    // SunConnection traces.
+    if (!facets_.empty() && (!horizontal_ || objects_)) build(sunDir, halfAngle, scene.geometry().bounds().lo.z, dom);
+    if (objects_ && maxOrder > 1) buildChains(scene, medium, index, skyMedia, sunDir, halfAngle, maxOrder);
+}
+
+int FacetBeams::faces(int i, std::array<BeamFace, kMaxChainOrder>* out) const {
+    const int nf = static_cast<int>(facets_.size());
+    if (i < nf) {
+        const BeamFacet& f = facets_[static_cast<size_t>(i)];
+        (*out)[0] = {f.mesh, f.instance, f.face};
+        return 1;
+    }
+    int n = 0;
+    for (int l = finals_[static_cast<size_t>(i - nf)]; l >= 0; l = links_[static_cast<size_t>(l)].parent) {
+        const BeamLink& k = links_[static_cast<size_t>(l)];
+        (*out)[static_cast<size_t>(n++)] = {k.mesh, k.instance, k.face};
+    }
+    return n;
+}
+
+namespace {
+// The direction light travelling along t takes across a face with unit normal nFrom on its side
+// (eta = n_from / n_to); false if it does not cross from that side or reflects totally.
+bool crossFace(const Vec3& t, const Normal3& nFrom, double eta, Vec3* out) {
+    if (!(dot(t, nFrom) < 0)) return false;
+    Vec3 wt;
+    if (!refract(-t, nFrom, eta, &wt)) return false;
+    *out = normalize(wt);
+    return true;
+}
+
+bool inTriangle(const Point3& q, const Point3& a, const Point3& b, const Point3& c) {
+    const Vec3 N = cross(b - a, c - a);
+    return dot(cross(b - a, q - a), N) >= 0 && dot(cross(c - b, q - b), N) >= 0 && dot(cross(a - c, q - c), N) >= 0;
+}
+}  // namespace
+
+bool FacetBeams::chainDirections(int j, const Vec3& ws, std::array<Vec3, kMaxChainOrder>* d) const {
+    std::array<int, kMaxChainOrder> idx{};
+    int n = 0;
+    for (int l = j; l >= 0; l = links_[static_cast<size_t>(l)].parent) idx[static_cast<size_t>(n++)] = l;
+    Vec3 t = -ws;
+    for (int i = n - 1, o = 0; i >= 0; --i, ++o) {
+        const BeamLink& L = links_[static_cast<size_t>(idx[static_cast<size_t>(i)])];
+        if (!crossFace(t, L.nFrom, L.eta, &t)) return false;
+        (*d)[static_cast<size_t>(o)] = t;
+    }
+    return true;
+}
+
+double FacetBeams::weight(int i, const Vec3& ws) const {
+    const int nf = static_cast<int>(facets_.size());
+    std::array<int, kMaxChainOrder> idx{};
+    int n = 0;
+    if (i >= nf)
+        for (int l = finals_[static_cast<size_t>(i - nf)]; l >= 0; l = links_[static_cast<size_t>(l)].parent)
+            idx[static_cast<size_t>(n++)] = l;
+    double w = 1;
+    Vec3 t = -ws;
+    for (int k = i < nf ? 0 : n - 1; k >= 0; --k) {
+        const Normal3 nFrom = i < nf ? facets_[static_cast<size_t>(i)].nAir : links_[static_cast<size_t>(idx[static_cast<size_t>(k)])].nFrom;
+        const double eta = i < nf ? eta_ : links_[static_cast<size_t>(idx[static_cast<size_t>(k)])].eta;
+        const double cosI = -dot(t, nFrom);
+        if (!crossFace(t, nFrom, eta, &t)) return 0;
+        const double cosT = -dot(t, nFrom);
+        if (!(cosT > 0)) return 0;
+        w *= (1.0 - fresnelDielectric(cosI, eta, 1.0)) * cosI / cosT;
+    }
+    return w;
+}
+
+bool FacetBeams::chainContains(int j, const Point3& p, const Vec3& ws, Vec3* d, double* s) const {
+    std::array<Vec3, kMaxChainOrder> dirs;
+    if (!chainDirections(j, ws, &dirs)) return false;
+    const int n = links_[static_cast<size_t>(j)].order;
+    // Back from p along each leg to the face that sent it, the parent's image moved by the shifts.
+    Point3 x = p;
+    Vec3 S{0, 0, 0};
+    int o = n - 1;
+    for (int l = j; l >= 0; l = links_[static_cast<size_t>(l)].parent, --o) {
+        const BeamLink& L = links_[static_cast<size_t>(l)];
+        const Vec3& t = dirs[static_cast<size_t>(o)];
+        const double dn = dot(L.nFrom, t);  // < 0 (crossFace)
+        const double tau = dot(L.nFrom, x - (L.a + S)) / dn;
+        if (!(tau > 0)) return false;
+        const Point3 q = x - t * tau;
+        if (!inTriangle(q, L.a + S, L.b + S, L.c + S)) return false;
+        if (l == j) *s = tau;
+        x = q;
+        S = S + L.shift;
+    }
+    *d = dirs[static_cast<size_t>(n - 1)];
+    return true;
+}
+
+namespace {
+constexpr size_t kMaxLinks = 200000;
+
+// The beam's directions over the disc (NaN where a direction makes none): their mean and the
+// largest angle of one from it, widened by 1.25 (the rim is sampled at kRim points, and the image of
+// the disc between two of them bulges past their chord, more where a refraction is near critical).
+struct Spread {
+    Vec3 mean;
+    double tanAngle = 0;
+};
+Spread spreadOf(const std::array<Vec3, kRim + 1>& t) {
+    Vec3 sum{0, 0, 0};
+    for (const Vec3& d : t)
+        if (!std::isnan(d.x)) sum = sum + d;
+    Spread s;
+    s.mean = normalize(sum);
+    double cosMin = 1;
+    for (const Vec3& d : t)
+        if (!std::isnan(d.x)) cosMin = std::min(cosMin, dot(d, s.mean));
+    const double angle = std::min(1.25 * std::acos(std::clamp(cosMin, -1.0, 1.0)), 1.4);
+    s.tanAngle = std::tan(angle);
+    return s;
+}
+
+// A box around a beam: the face's vertices swept along each of its directions to the scene's box
+// (in a periodic domain only its top and bottom end the sweep, capped at `cap`), widened by what
+// the directions between the sampled ones may add.
+BBox3 sweptBox(const BeamLink& L, const std::array<Vec3, kRim + 1>& dirs, const BBox3& scene, bool periodic,
+               double cap) {
+    BBox3 box;
+    double longest = 0;
+    for (const Point3& v : {L.a, L.b, L.c}) {
+        box.expand(v);
+        for (const Vec3& d : dirs) {
+            if (std::isnan(d.x)) continue;
+            double t = cap;
+            for (int axis = periodic ? 2 : 0; axis < 3; ++axis) {
+                const double dv = axis == 0 ? d.x : axis == 1 ? d.y : d.z, pv = axis == 0 ? v.x : axis == 1 ? v.y : v.z;
+                const double lo = axis == 0 ? scene.lo.x : axis == 1 ? scene.lo.y : scene.lo.z;
+                const double hi = axis == 0 ? scene.hi.x : axis == 1 ? scene.hi.y : scene.hi.z;
+                if (dv > 0) t = std::min(t, std::max(0.0, (hi - pv) / dv));
+                if (dv < 0) t = std::min(t, std::max(0.0, (lo - pv) / dv));
+            }
+            box.expand(v + d * t);
+            longest = std::max(longest, t);
+        }
+    }
+    const double e = 1e-6 * (1 + length(box.extent())) + 0.25 * longest * spreadOf(dirs).tanAngle;
+    box.lo = box.lo - Vec3{e, e, e}, box.hi = box.hi + Vec3{e, e, e};
+    return box;
+}
+
+bool boxesOverlap(const BBox3& a, const BBox3& b, const Vec3& shiftB) {
+    return a.lo.x <= b.hi.x + shiftB.x && b.lo.x + shiftB.x <= a.hi.x && a.lo.y <= b.hi.y + shiftB.y &&
+           b.lo.y + shiftB.y <= a.hi.y && a.lo.z <= b.hi.z + shiftB.z && b.lo.z + shiftB.z <= a.hi.z;
+}
+
+// Can the beam of L (its image moved by S), along any of its directions, reach face F (vertices
+// fa, fb, fc, crossed from the side nFrom)? Conservative: across the mean direction, F's bounding
+// rectangle overlaps L's widened by how far the other directions drift over the distance between
+// them, F lies ahead of L, and some direction crosses F from the side nFrom.
+bool beamReaches(const BeamLink& L, const Vec3& S, const std::array<Vec3, kRim + 1>& dirs, const Point3& fa,
+                 const Point3& fb, const Point3& fc, const Normal3& nFrom) {
+    bool crosses = false;
+    for (const Vec3& d : dirs) crosses = crosses || (!std::isnan(d.x) && dot(d, nFrom) < 0);
+    if (!crosses) return false;
+    const Spread sp = spreadOf(dirs);
+    const Frame f = Frame::fromNormal(sp.mean);
+    double l[5] = {ir::kInfinity, -ir::kInfinity, ir::kInfinity, -ir::kInfinity, ir::kInfinity};
+    double r[5] = {ir::kInfinity, -ir::kInfinity, ir::kInfinity, -ir::kInfinity, -ir::kInfinity};
+    for (const Point3& v : {L.a + S, L.b + S, L.c + S}) {
+        const Vec3 q = f.toLocal(v - Point3{0, 0, 0});
+        l[0] = std::min(l[0], q.x), l[1] = std::max(l[1], q.x), l[2] = std::min(l[2], q.y), l[3] = std::max(l[3], q.y);
+        l[4] = std::min(l[4], q.z);
+    }
+    for (const Point3& v : {fa, fb, fc}) {
+        const Vec3 q = f.toLocal(v - Point3{0, 0, 0});
+        r[0] = std::min(r[0], q.x), r[1] = std::max(r[1], q.x), r[2] = std::min(r[2], q.y), r[3] = std::max(r[3], q.y);
+        r[4] = std::max(r[4], q.z);
+    }
+    const double e = 1e-6 * (1 + length(fa - L.a - S));
+    if (!(r[4] > l[4] - e)) return false;  // F lies behind L
+    const double m = e + (r[4] - l[4]) * sp.tanAngle;
+    return l[0] <= r[1] + m && r[0] <= l[1] + m && l[2] <= r[3] + m && r[2] <= l[3] + m;
+}
+}  // namespace
+
+namespace {
+// The enumeration of chains: every smooth face the sun lights from the air starts one (a root),
+// and each link is carried to every face between two dense media its beam can reach.
+struct ChainBuilder {
+    struct DenseFace {
+        Point3 a, b, c;
+        Normal3 nOut;
+        int mesh, instance;
+        uint32_t face;
+        int in, out;
+    };
+    BBox3 bounds;
+    double cap = 0;
+    bool periodic = false;
+    std::vector<Vec3> shifts{Vec3{0, 0, 0}};  // the periodic images tried
+    std::vector<DenseFace> dense;             // smooth faces between two dense media
+    std::vector<BeamLink> links;
+    std::vector<std::array<Vec3, kRim + 1>> travel;  // per link, its direction for each disc direction
+
+    // Adds L if light arriving along `before` (toward the sun for a root) crosses it for some disc
+    // direction.
+    void add(BeamLink L, const std::array<Vec3, kRim + 1>& before, bool root) {
+        std::array<Vec3, kRim + 1> t;
+        bool any = false;
+        for (size_t k = 0; k < t.size(); ++k) {
+            const bool ok = !std::isnan(before[k].x) && crossFace(root ? -before[k] : before[k], L.nFrom, L.eta, &t[k]);
+            if (!ok) t[k] = Vec3{NAN, NAN, NAN};
+            any = any || ok;
+        }
+        if (!any) return;
+        L.box = sweptBox(L, t, bounds, periodic, cap);
+        links.push_back(L);
+        travel.push_back(t);
+    }
+
+    void collect(const Scene& scene, const std::vector<double>& index, const std::vector<bool>& sky,
+                 const std::array<Vec3, kRim + 1>& dirs, double minCos) {
+        scene.geometry().forEachTriangle([&](int mesh, int inst, uint32_t face, const Point3& a, const Point3& b,
+                                             const Point3& c) {
+            const int in = scene.insideMedium(mesh), out = scene.outsideMedium(mesh);
+            const bool skyIn = sky[static_cast<size_t>(in)], skyOut = sky[static_cast<size_t>(out)];
+            if (in == out || (skyIn && skyOut)) return;
+            SurfaceHit h;
+            h.mesh = mesh, h.instance = inst, h.face = face;
+            h.slot = scene.ir().meshes[static_cast<size_t>(mesh)].data.materialOf(face);
+            h.p = (a + b + c) * (1.0 / 3.0);
+            const MaterialData& m = scene.material(h);
+            const Vec3 N = cross(b - a, c - a);
+            const double len = length(N);
+            if (!m.isInterface() || m.isRough() || !(len > 0)) return;
+            const Normal3 nOut = N * (1.0 / len);
+            if (!skyIn && !skyOut) {
+                dense.push_back({a, b, c, nOut, mesh, inst, face, in, out});
+                return;
+            }
+            BeamLink L;
+            L.a = a, L.b = b, L.c = c;
+            L.nFrom = skyOut ? nOut : -nOut;
+            if (dot(L.nFrom, dirs[0]) <= minCos) return;
+            L.from = skyOut ? out : in, L.to = skyOut ? in : out;
+            L.eta = index[static_cast<size_t>(L.from)] / index[static_cast<size_t>(L.to)];
+            L.mesh = mesh, L.instance = inst, L.face = face;
+            add(L, dirs, true);
+        });
+    }
+
+    // The links of order `order` from those of order - 1, links[begin, end).
+    void extend(size_t begin, size_t end, int order, const std::vector<double>& index) {
+        for (size_t li = begin; li < end; ++li) {
+            const BeamLink L = links[li];  // copies: add() grows both vectors
+            const std::array<Vec3, kRim + 1> tr = travel[li];
+            for (const DenseFace& F : dense) {
+                if ((L.to != F.in && L.to != F.out) || (L.mesh == F.mesh && L.instance == F.instance && L.face == F.face))
+                    continue;
+                BBox3 fbox;
+                for (const Point3& v : {F.a, F.b, F.c}) fbox.expand(v);
+                const Normal3 nFrom = L.to == F.out ? F.nOut : -F.nOut;
+                for (const Vec3& S : shifts) {
+                    // The parent's image moved by S lights F: F moved by -S overlaps the parent's beam.
+                    if (!boxesOverlap(L.box, fbox, -S) || !beamReaches(L, S, tr, F.a, F.b, F.c, nFrom)) continue;
+                    BeamLink K;
+                    K.a = F.a, K.b = F.b, K.c = F.c, K.nFrom = nFrom;
+                    K.from = L.to, K.to = L.to == F.out ? F.in : F.out;
+                    K.eta = index[static_cast<size_t>(K.from)] / index[static_cast<size_t>(K.to)];
+                    K.mesh = F.mesh, K.instance = F.instance, K.face = F.face;
+                    K.parent = static_cast<int>(li), K.shift = S, K.order = order;
+                    add(K, tr, false);
+                }
+            }
+        }
+    }
+};
+}  // namespace
+
+void FacetBeams::buildChains(const Scene& scene, int medium, const std::vector<double>& index,
+                             const std::vector<bool>& sky, const Vec3& sunDir, double halfAngle, int maxOrder) {
+    maxOrder = std::min(maxOrder, kMaxChainOrder);
+    ChainBuilder cb;
+    cb.bounds = scene.geometry().bounds();
+    cb.cap = 10 * (1 + length(cb.bounds.extent()));
+    cb.periodic = periodic_;
+    if (periodic_)
+        for (int ix = -1; ix <= 1; ++ix)
+            for (int iy = -1; iy <= 1; ++iy)
+                if (ix != 0 || iy != 0) cb.shifts.push_back(Vec3{ix * px_, iy * py_, 0});
+    cb.collect(scene, index, sky, discDirections(sunDir, halfAngle), -std::sin(std::min(0.5, halfAngle * kRimMargin)));
+    size_t begin = 0, end = cb.links.size();
+    maxOrder_ = maxOrder;
+    for (int order = 2; order <= maxOrder && begin < end; ++order) {
+        cb.extend(begin, end, order, index);
+        if (cb.links.size() > kMaxLinks) {
+            // Too many to test at every query: index the chains one refraction shorter, completely.
+            cb.links.resize(end);
+            maxOrder_ = order - 1;
+            log::warn("facet beams into medium {}: more than {} chains of {} refractions through dielectric "
+                      "objects; chains of up to {} are indexed, longer ones are reached by sampling only",
+                      medium, kMaxLinks, order, order - 1);
+            break;
+        }
+        begin = end, end = cb.links.size();
+    }
+    // Keep the chains of two or more refractions that end in this medium, and their ancestors.
+    const std::vector<BeamLink>& links = cb.links;
+    std::vector<int> keep(links.size(), -1), finals;
+    for (size_t i = 0; i < links.size(); ++i) {
+        if (links[i].order < 2 || links[i].to != medium) continue;
+        finals.push_back(static_cast<int>(i));
+        for (int l = static_cast<int>(i); l >= 0 && keep[static_cast<size_t>(l)] < 0; l = links[static_cast<size_t>(l)].parent)
+            keep[static_cast<size_t>(l)] = 0;
+    }
+    for (size_t i = 0; i < links.size(); ++i) {
+        if (keep[i] < 0) continue;
+        keep[i] = static_cast<int>(links_.size());
+        links_.push_back(links[i]);
+        if (links_.back().parent >= 0) links_.back().parent = keep[static_cast<size_t>(links_.back().parent)];
+    }
+    for (const int f : finals) finals_.push_back(keep[static_cast<size_t>(f)]);
+    log::debug("facet beams into medium {}: {} chains through dielectric objects ({} links)", medium, finals_.size(),
+               links_.size());
 }
 
 bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {
@@ -82,7 +402,7 @@ bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {
     Vec3 wt;
     if (!refract(ws, f.nAir, eta_, &wt)) return false;  // (never, into a denser medium)
     *d = normalize(wt);
-    return d->z < -kMinBeamSlope;
+    return d->z < -kMinSlope;
 }
 
 bool FacetBeams::containsImage(const BeamFacet& f, const Point3& p, const Vec3& d, const Vec3& S, double* s) const {
@@ -109,7 +429,7 @@ bool FacetBeams::contains(int i, const Point3& p, const Vec3& d, double* s) cons
     // light under the 68-degree sinusoid.) It is the only candidate for a facet smaller than a
     // quarter period; a larger one is tested in the images around it too.
     const Point3 g = (f.a + f.b + f.c) * (1.0 / 3.0);
-    const Point3 q = p + d * ((g.z - p.z) / d.z);  // d.z < -kMinBeamSlope (refracted)
+    const Point3 q = p + d * ((g.z - p.z) / d.z);  // d.z < -kMinSlope (refracted)
     const Vec3 S{px_ * std::round((q.x - g.x) / px_), py_ * std::round((q.y - g.y) / py_), 0};
     if (!f.large) return containsImage(f, p, d, S, s);
     for (int jx = -1; jx <= 1; ++jx)
@@ -118,7 +438,7 @@ bool FacetBeams::contains(int i, const Point3& p, const Vec3& d, double* s) cons
     return false;
 }
 
-const int32_t* FacetBeams::cellOf(const Point3& p, int* count) const {
+const FacetBeams::Entry* FacetBeams::cellOf(const Point3& p, int* count, double* sxOut, double* syOut) const {
     *count = 0;
     if (offsets_.empty()) return nullptr;  // no facets, or flat ones (not indexed)
     const double depth = (zTop_ - p.z) / slab_;
@@ -131,6 +451,8 @@ const int32_t* FacetBeams::cellOf(const Point3& p, int* count) const {
     const int i = std::min(static_cast<int>(fi), nx_ - 1), j = std::min(static_cast<int>(fj), ny_ - 1);
     const size_t k = (static_cast<size_t>(s) * ny_ + j) * nx_ + i;
     *count = static_cast<int>(offsets_[k + 1] - offsets_[k]);
+    // The position within the cell, in the entries' fixed-point units.
+    *sxOut = (fi - i) * kEntryScale, *syOut = (fj - j) * kEntryScale;
     return entries_.data() + offsets_[k];
 }
 
@@ -214,6 +536,21 @@ std::array<double, 4> FacetBeams::footprint(size_t i, const Drifts& drifts, doub
     return box;
 }
 
+FacetBeams::Entry FacetBeams::entry(int32_t facet, int ci, int cj, double x0, double x1, double y0, double y1) const {
+    // The box in units of the cell (0 at its low edge, kEntryScale at its high one), clipped to it and
+    // rounded outward (a hair wider than the doubles' rounding).
+    auto lo = [](double v) {
+        v = std::floor(v * kEntryScale - 1e-6 * kEntryScale);
+        return static_cast<uint16_t>(std::clamp(v, 0.0, kEntryScale));
+    };
+    auto hi = [](double v) {
+        v = std::ceil(v * kEntryScale + 1e-6 * kEntryScale);
+        return static_cast<uint16_t>(std::clamp(v, 0.0, kEntryScale));
+    };
+    const double cx = x0_ + ci * cellX_, cy = y0_ + cj * cellY_;
+    return Entry{facet, lo((x0 - cx) / cellX_), hi((x1 - cx) / cellX_), lo((y0 - cy) / cellY_), hi((y1 - cy) / cellY_)};
+}
+
 // Lists every facet in the cells its footprint overlaps in every slab below its top: counting
 // into offsets_[k + 1] (count), or writing entries_ at offsets_[k] onward (the offsets advance and
 // are restored at the end).
@@ -232,9 +569,10 @@ void FacetBeams::fill(const Drifts& drifts, bool count) {
             const double e = 1e-9 * (1 + std::abs(x0) + std::abs(y0));
             int i0 = static_cast<int>(std::floor((x0 - e - x0_) / cellX_)), i1 = static_cast<int>(std::floor((x1 + e - x0_) / cellX_));
             int j0 = static_cast<int>(std::floor((y0 - e - y0_) / cellY_)), j1 = static_cast<int>(std::floor((y1 + e - y0_) / cellY_));
+            bool wideX = false, wideY = false;  // the footprint spans the period: its box rejects nothing
             if (periodic_) {
-                if (i1 - i0 >= nx_) i0 = 0, i1 = nx_ - 1;
-                if (j1 - j0 >= ny_) j0 = 0, j1 = ny_ - 1;
+                if (i1 - i0 >= nx_) i0 = 0, i1 = nx_ - 1, wideX = true;
+                if (j1 - j0 >= ny_) j0 = 0, j1 = ny_ - 1, wideY = true;
             } else {
                 i0 = std::max(i0, 0), j0 = std::max(j0, 0), i1 = std::min(i1, nx_ - 1), j1 = std::min(j1, ny_ - 1);
             }
@@ -242,8 +580,15 @@ void FacetBeams::fill(const Drifts& drifts, bool count) {
                 for (int ii = i0; ii <= i1; ++ii) {
                     const int ci = ((ii % nx_) + nx_) % nx_, cj = ((j % ny_) + ny_) % ny_;
                     const size_t k = (static_cast<size_t>(s) * ny_ + cj) * nx_ + ci;
-                    if (count) ++offsets_[k + 1];
-                    else entries_[next[k]++] = static_cast<int32_t>(i);
+                    if (count) {
+                        ++offsets_[k + 1];
+                        continue;
+                    }
+                    // The box in the cell's periodic image (the unwrapped cell ii is cell ci).
+                    const double sx = (ii - ci) / nx_ * px_, sy = (j - cj) / ny_ * py_;
+                    entries_[next[k]++] = entry(static_cast<int32_t>(i), ci, cj, wideX ? -ir::kInfinity : x0 - sx,
+                                                wideX ? ir::kInfinity : x1 - sx, wideY ? -ir::kInfinity : y0 - sy,
+                                                wideY ? ir::kInfinity : y1 - sy);
                 }
         }
     }

@@ -17,10 +17,19 @@
 // any direction of the solar disc, overlaps each cell. A query looks up one cell and tests its few
 // candidates exactly. In a horizontally periodic domain sigma wraps around the domain's period (a
 // beam that leaves through a side wall comes back through the opposite one).
+//
+// Chains (docs/rendering.md, "Beams through dielectric objects"): where the medium shares smooth
+// faces with another dense medium (a dielectric object in the water, the water around an object),
+// light also reaches it through two or more refractions: a beam in one dense medium meets a face
+// of another and is refracted again, still as a parallel beam (the faces are flat). Every such
+// chain of up to maxOrder() refractions, entering from the air only at its first face, is a
+// BeamLink with its parent; the chains that end in this medium are tested one by one (after a
+// bounding-box test) at every query, after the grid's facets.
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "core/bbox.h"
 #include "core/scene_ir.h"
 #include "core/vec.h"
 
@@ -37,40 +46,95 @@ struct BeamFacet {
     bool large = false;  // wider than a quarter of the domain's period (periodic images are all tested)
 };
 
+// One refraction of a chain: light that reached the face through its parent's beam (or straight
+// from the sun: parent -1) crosses it from medium `from` into medium `to`.
+struct BeamLink {
+    Point3 a, b, c;   // world vertices
+    Normal3 nFrom;    // unit normal on the side the light comes from
+    double eta = 1;   // n_from / n_to
+    int mesh = -1, instance = -1;
+    uint32_t face = 0;
+    int from = -1, to = -1;
+    int parent = -1;  // index in the chain's links (-1: the first face, lit by the sun)
+    Vec3 shift;       // periodic domains: the parent's image that lights this face is the parent moved by shift
+    int order = 1;
+    BBox3 box;        // bounds this link's beam inside the scene (the links that end in the medium)
+};
+
+// A face a beam's chain crosses, in order from the point back toward the sun.
+struct BeamFace {
+    int mesh = -1, instance = -1;
+    uint32_t face = 0;
+};
+
 class FacetBeams {
 public:
     // The beams into `medium` (index n, the sun toward `sunDir` with half-angle `halfAngle`) from
     // every smooth interface facet whose other side is a sky medium (sky[m]: the media the sun
     // shines through, SunConnection's rule) and whose air side the disc can light. Empty if there
     // is none.
-    FacetBeams(const Scene& scene, int medium, double n, const std::vector<bool>& sky, const Vec3& sunDir,
-               double halfAngle);
-    bool empty() const { return facets_.empty(); }
+    // With objects (hasObjects), chains of up to maxOrder refractions are indexed too (at least 1).
+    // index[m]: medium m's refractive index.
+    FacetBeams(const Scene& scene, int medium, const std::vector<double>& index, const std::vector<bool>& sky,
+               const Vec3& sunDir, double halfAngle, int maxOrder = kMaxChainOrder);
+    static constexpr int kMaxChainOrder = 3;  // air -> water -> object -> water
+    // A facet's beam closer to the horizontal than this (|d.z| < kMinSlope, 5.7 deg) is not in the
+    // grid (its drift per depth is unbounded): light along it is left to sampling (SunChain).
+    static constexpr double kMinSlope = 0.1;
+    bool empty() const { return facets_.empty() && finals_.empty(); }
     // Does the medium share a smooth interface with another dense medium (a dielectric object in
-    // the water)? Light through it reaches a point along two or more refractions, which the beams
-    // do not follow: SunConnection then keeps the straight-path estimate for this medium.
+    // the water)? Light then reaches it through chains of refractions too, which are indexed.
     bool hasObjects() const { return objects_; }
-    // Are all the facets horizontal (flat water)? Their beams are then the one beam the straight
-    // path follows, which SunConnection traces instead, at the cost of one ray; they are not
-    // indexed (forEachContaining finds none).
+    // Are all the facets horizontal (flat water)? Without objects their beams are then the one
+    // beam the straight path follows, which SunConnection traces instead, at the cost of one ray;
+    // they are not indexed (forEachContaining finds none). With objects they are.
     bool allHorizontal() const { return horizontal_; }
     size_t facetCount() const { return facets_.size(); }
     size_t entryCount() const { return entries_.size(); }
+    size_t chainCount() const { return finals_.size(); }
+    // The largest number of refractions a beam into this medium takes: 1 without objects, else
+    // the chain length that was indexed completely (kMaxChainOrder unless the links overflowed).
+    int maxOrder() const { return maxOrder_; }
 
-    // Calls f(facet index, refracted direction d (unit, pointing into the medium), distance s from
-    // p back to the facet along -d) for every facet whose beam for the sun direction ws (in air,
-    // toward the sun, within the disc) contains p. Returns the number of such facets.
+    // Calls f(beam index, refracted direction d (unit, pointing into the medium), distance s from
+    // p back to the beam's last face along -d) for every beam whose light from the sun direction ws
+    // (in air, toward the sun, within the disc) contains p: facets first (index < facetCount()),
+    // then chains. Returns the number of such beams.
     template <class F> int forEachContaining(const Point3& p, const Vec3& ws, F&& f) const;
     const BeamFacet& facet(int i) const { return facets_[static_cast<size_t>(i)]; }
     // The direction into the medium along which facet i refracts light from ws (false: none).
     bool refracted(int i, const Vec3& ws, Vec3* d) const;
+    // Beam i's irradiance for light from ws per unit irradiance from the sun, before attenuation
+    // and shadowing: the product over its refractions of the Fresnel transmittance and the face's
+    // area across the beam before over after (cos_incident / cos_transmitted). 0 if none.
+    double weight(int i, const Vec3& ws) const;
+    // The faces beam i crosses, from the point back toward the sun; returns their number.
+    int faces(int i, std::array<BeamFace, kMaxChainOrder>* out) const;
 
 private:
     // Does facet i's beam along d contain p? Sets *s (distance back to the facet).
     bool contains(int i, const Point3& p, const Vec3& d, double* s) const;
     bool containsImage(const BeamFacet& f, const Point3& p, const Vec3& d, const Vec3& S, double* s) const;
-    // The grid cell list of p (nullptr, 0 if p lies outside the index).
-    const int32_t* cellOf(const Point3& p, int* count) const;
+    // Does chain link j's beam for ws contain p (unwrapped)? Sets *d and *s as forEachContaining.
+    bool chainContains(int j, const Point3& p, const Vec3& ws, Vec3* d, double* s) const;
+    // The travel directions of light from ws along link j's chain, first face first ([0, order)).
+    bool chainDirections(int j, const Vec3& ws, std::array<Vec3, kMaxChainOrder>* d) const;
+    void buildChains(const Scene& scene, int medium, const std::vector<double>& index, const std::vector<bool>& sky,
+                     const Vec3& sunDir, double halfAngle, int maxOrder);
+    // A grid entry: the facet and its footprint in the cell's slab (the sheared plane's box that
+    // holds its beams for every disc direction, in the cell's periodic image), clipped to the cell
+    // and rounded outward to 1/65535 of it. A query tests the box before it reads the facet: the
+    // cell's entries are contiguous, the facets' records are not (most of a query's cache misses
+    // were theirs; the test halved the lookup's time).
+    struct Entry {
+        int32_t facet;
+        uint16_t x0, x1, y0, y1;
+    };
+    static constexpr double kEntryScale = 65535;
+    Entry entry(int32_t facet, int ci, int cj, double x0, double x1, double y0, double y1) const;
+    // The grid cell list of p and p's position in the cell in the entries' units (nullptr, 0 if p
+    // lies outside the index).
+    const Entry* cellOf(const Point3& p, int* count, double* sx, double* sy) const;
     void build(const Vec3& sunDir, double halfAngle, double zBottom, const ir::Domain& domain);
     // Per facet, the drift k - k0 of each of the disc directions' beams (NaN where one misses).
     struct Drifts;
@@ -90,18 +154,39 @@ private:
     double zTop_ = 0, slab_ = 1, cellX_ = 1, cellY_ = 1, x0_ = 0, y0_ = 0;
     int nx_ = 0, ny_ = 0, nz_ = 0;
     std::vector<uint32_t> offsets_;
-    std::vector<int32_t> entries_;
+    std::vector<Entry> entries_;
+    // Chains: every link (ancestors included) and the links that end in this medium.
+    std::vector<BeamLink> links_;
+    std::vector<int> finals_;
+    int maxOrder_ = 1;
 };
 
 template <class F> int FacetBeams::forEachContaining(const Point3& p, const Vec3& ws, F&& f) const {
     int count = 0, n = 0;
-    const int32_t* list = cellOf(p, &n);
+    double sx = 0, sy = 0;
+    const Entry* list = cellOf(p, &n, &sx, &sy);
     for (int k = 0; k < n; ++k) {
+        const Entry& e = list[k];
+        if (sx < e.x0 || sx > e.x1 || sy < e.y0 || sy > e.y1) continue;
         Vec3 d;
         double s = 0;
-        if (!refracted(list[k], ws, &d) || !contains(list[k], p, d, &s)) continue;
+        if (!refracted(e.facet, ws, &d) || !contains(e.facet, p, d, &s)) continue;
         ++count;
-        f(list[k], d, s);
+        f(e.facet, d, s);
+    }
+    const int nf = static_cast<int>(facets_.size());
+    for (size_t k = 0; k < finals_.size(); ++k) {
+        const BeamLink& l = links_[static_cast<size_t>(finals_[k])];
+        for (int ix = periodic_ ? -1 : 0; ix <= (periodic_ ? 1 : 0); ++ix)
+            for (int iy = periodic_ ? -1 : 0; iy <= (periodic_ ? 1 : 0); ++iy) {
+                const Point3 q{p.x + ix * px_, p.y + iy * py_, p.z};
+                Vec3 d;
+                double s = 0;
+                if (!l.box.contains(q) || !chainContains(finals_[k], q, ws, &d, &s)) continue;
+                ++count;
+                f(nf + static_cast<int>(k), d, s);
+                ix = iy = 2;  // a beam narrower than the period holds one image of p
+            }
     }
     return count;
 }

@@ -33,6 +33,8 @@ std::optional<Ray> InteractionStep::wrap(const SurfaceHit& h, const Vec3& d, int
     return next;
 }
 
+bool InteractionStep::intoSky(const SurfaceHit& h) const { return sun_ && sun_->skyMedium(scene_.farMedium(h)); }
+
 void InteractionStep::requireDiffuse(const BxDF& bxdf) {
     if (!bxdf.isDiffuse())
         throw InternalError(fmt::format("a BxDF with flags {:#x} reached a diffuse-vertex solver; transport has no "
@@ -69,22 +71,22 @@ Interaction InteractionStep::atInterface(const Ray& ray, const SurfaceHit& h, co
     if (splits > 0 && draws_.whenSplitting) n = draw(rng, draws_.deltaUcLast);
     BSDFSample r, t;
     bool canTransmit = false;
-    if (splits > 0 && bxdf.specularPair(wo, mode_, &r, &t, &canTransmit)) return split(h, frame, r, t, canTransmit, chain);
+    if (splits > 0 && bxdf.specularPair(wo, mode_, &r, &t, &canTransmit)) return split(h, frame, wo, r, t, canTransmit, chain);
     if (!n) n = draw(rng, draws_.deltaUcLast);
     return sampled(h, frame, bxdf, wo, chain, 0, *n);
 }
 
-Interaction InteractionStep::split(const SurfaceHit& h, const Frame& frame, const BSDFSample& r, const BSDFSample& t,
-                                   bool canTransmit, const SunChain& chain) const {
+Interaction InteractionStep::split(const SurfaceHit& h, const Frame& frame, const Vec3& wo, const BSDFSample& r,
+                                   const BSDFSample& t, bool canTransmit, const SunChain& chain) const {
     // Deterministic split: L = r_f L_r + T_f (n_o/n_t)^2 L_t (Eq. 4.2 weights, n^2 law).
     Interaction it;
     it.kind = Interaction::Kind::Split;
     it.out[0] = {spawnRay(h.p, h.ng, frame.toWorld(r.wi)), scene_.nearMedium(h), chain, r.f * std::abs(r.wi.z)};
-    it.out[0].chain.record(false, false);
+    it.out[0].chain.record(false, false, false, 0.0);
     it.out[1].weight = 0;
     if (canTransmit) {
         it.out[1] = {spawnRay(h.p, h.ng, frame.toWorld(t.wi)), scene_.farMedium(h), chain, t.f * std::abs(t.wi.z)};
-        it.out[1].chain.record(true, false);
+        it.out[1].chain.record(true, false, intoSky(h), frame.toWorld(-wo).z);
     }
     return it;
 }
@@ -103,12 +105,14 @@ Interaction InteractionStep::sampled(const SurfaceHit& h, const Frame& frame, co
     // renormalised (they feed the next event's MIS densities).
     const Vec3 wi = frame.toWorld(s->wi);
     c.ray = spawnRay(h.p, h.ng, glossy ? normalize(wi) : wi);
+    const bool toSky = s->isTransmission() && intoSky(h);
+    const double legZ = frame.toWorld(-wo).z;  // the arriving ray's direction
     if (glossy && sun_) {
-        c.chain = sun_->chainAfterGlossy(chain, *s, neeSide);
+        c.chain = sun_->chainAfterGlossy(chain, *s, neeSide, toSky, legZ);
     } else {
         c.chain = chain;
         c.chain.glossyPdf = 0;
-        c.chain.record(s->isTransmission(), glossy);
+        c.chain.record(s->isTransmission(), glossy, toSky, legZ);
     }
     return it;
 }

@@ -63,6 +63,8 @@ public:
     // wrap fails (the hit is not on a domain edge) or the path has wrapped Scene::kMaxWraps times
     // (*wraps counts the wraps of the path).
     std::optional<Ray> wrap(const SurfaceHit& h, const Vec3& d, int* wraps) const;
+    // Does a transmission at h enter a sky medium (the air; SunChain::intoSky)?
+    bool intoSky(const SurfaceHit& h) const;
 
     // The event at an interface h (bxdf = Scene::bxdf(h), specular or glossy) reached along ray with
     // sun chain `chain` (already past SunChain::hitSurface). *specular counts the path's interface
@@ -85,7 +87,7 @@ private:
     // One lobe sampled with the numbers n; neeSide as returned by SunConnection::atGlossyHit.
     Interaction sampled(const SurfaceHit& h, const Frame& frame, const BxDF& bxdf, const Vec3& wo,
                         const SunChain& chain, int neeSide, const Numbers& n) const;
-    Interaction split(const SurfaceHit& h, const Frame& frame, const BSDFSample& r, const BSDFSample& t,
+    Interaction split(const SurfaceHit& h, const Frame& frame, const Vec3& wo, const BSDFSample& r, const BSDFSample& t,
                       bool canTransmit, const SunChain& chain) const;
 
     const Scene& scene_;

@@ -26,9 +26,10 @@ std::atomic<bool> gInWaterSunEstimates{true};  // setInWaterSunEstimates
 
 void setInWaterSunEstimates(bool on) { gInWaterSunEstimates.store(on); }
 
-SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glossy, std::vector<bool> effective)
+SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glossy, std::vector<bool> effective,
+                             bool straightPath)
     : scene_(scene), group_(group), glossy_(glossy), effective_(std::move(effective)),
-      inWater_(gInWaterSunEstimates.load()) {
+      inWater_(gInWaterSunEstimates.load()), straight_(straightPath) {
     LITTORAL_CHECK(effective_.empty() || effective_.size() == scene.media().size());
     skyRadiance_ = bandValues(scene.sky().radiance);
     // A medium under a rough interface: the inside medium of a mesh that uses a rough material, whose
@@ -60,16 +61,32 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
     // Facet beams into every denser medium that is not under a rough interface.
     beams_.resize(nm);
     std::vector<bool> sky(nm);
-    for (size_t m = 0; m < nm; ++m) sky[m] = skyMedium(static_cast<int>(m));
+    std::vector<double> index(nm);
+    for (size_t m = 0; m < nm; ++m) {
+        sky[m] = skyMedium(static_cast<int>(m));
+        index[m] = scene.media()[m].n(group.begin);
+    }
     const SunSource& sun = scene.sun();
     for (size_t m = 0; m < nm && sun.enabled; ++m) {
         if (sky[m] || roughSunMaterial_[m] >= 0) continue;
-        auto b = std::make_unique<FacetBeams>(scene, static_cast<int>(m), scene.media()[m].n(group.begin), sky,
-                                              sun.direction, sun.halfAngle);
-        // Under flat water every beam is the straight path's (docs/rendering.md): one ray, not a
-        // lookup and two (the Mobley columns' path estimate took 10 times as long through the beams).
-        if (!b->empty() && !b->hasObjects() && !b->allHorizontal()) beams_[m] = std::move(b);
+        auto b = std::make_unique<FacetBeams>(scene, static_cast<int>(m), index, sky, sun.direction, sun.halfAngle);
+        // Under flat water without objects every beam is the straight path's (docs/rendering.md):
+        // one ray, not a lookup and two (the Mobley columns' path estimate took 10 times as long
+        // through the beams).
+        if (!b->empty() && (b->hasObjects() || !b->allHorizontal())) beams_[m] = std::move(b);
     }
+}
+
+SunChain SunConnection::chainAfterVertex(int medium) const {
+    const bool rough = roughAbove(medium);
+    const FacetBeams* fb = beamsInto(medium);
+    SunChain c;
+    if (rough) c = SunChain::afterVertex(true, 0, straight_ ? SunChain::kAny : 0, false);
+    else if (fb) c = SunChain::afterVertex(false, 1, fb->maxOrder(), true);
+    else if (skyMedium(medium)) c = SunChain::afterVertex(false, 0, straight_ ? SunChain::kAny : 0, false);
+    else c = SunChain::afterVertex(false, straight_ ? 0 : 1, straight_ ? SunChain::kAny : 1, false);
+    c.noEstimate = !estimatesIn(medium);
+    return c;
 }
 
 Spec SunConnection::bandValues(const std::vector<double>& v) const {
@@ -147,8 +164,9 @@ SunConnection::Walk SunConnection::straightWalk(Ray r, int m, bool stopAtSky, Sp
                 return Walk::AtSky;
             }
         }
-        // Rough interfaces block the straight path too (light through them is sampled).
-        if (flags & kGlossy) return Walk::Blocked;
+        // Rough interfaces block the straight path too (light through them is sampled), and so
+        // does every interface unless the straight-path model is in force.
+        if ((flags & kGlossy) || !straight_) return Walk::Blocked;
         *T *= straightCrossing(dot(r.d, h->ng),
                                scene_.media()[static_cast<size_t>(scene_.nearMedium(*h))].n(group_.begin),
                                scene_.media()[static_cast<size_t>(far)].n(group_.begin));
@@ -230,10 +248,17 @@ SunBeam SunConnection::along(const Point3& p, const Normal3& ng, const Vec3& dir
     if (const FacetBeams* fb = beamsInto(medium)) {
         // Traced to the facet above; the beams that contain p for the disc direction it sends light
         // from give the density with which sample() picks this one.
+        // The probability with which sample() would pick this beam among those that contain p for
+        // the disc direction it leaves toward. If no indexed beam does (a single refraction closer
+        // to the horizontal than kMinSlope), the light is not covered (SunChain): none.
         Vec3 out;
-        SunBeam b = beamAlong(p, ng, dir, medium, -1, 1, &out);
+        double w = 0;
+        SunBeam b = beamAlong(p, ng, dir, medium, -1, 1, &out, &w);
         if (!b.valid) return b;
-        b.pdf /= std::max(1, fb->forEachContaining(p, out, [](int, const Vec3&, double) {}));
+        double total = 0;
+        fb->forEachContaining(p, out, [&](int f, const Vec3&, double) { total += fb->weight(f, out); });
+        if (!(total > 0)) return none();
+        b.pdf *= std::min(1.0, w / total);
         b.E = b.L * (1.0 / b.pdf);
         return b;
     }
@@ -253,78 +278,114 @@ int SunConnection::firstSurface(Ray r, int m, SurfaceHit* h, Spec* atten) const 
     }
 }
 
-SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int facet,
-                                 int beams, Vec3* outAir) const {
-    SurfaceHit h;
-    Spec atten;
-    if (firstSurface(spawnRay(p, ng, dir), medium, &h, &atten) != 1) return none();
-    if (facet >= 0) {
-        const BeamFacet& f = beamsInto(medium)->facet(facet);
-        if (h.mesh != f.mesh || h.instance != f.instance || h.face != f.face) return none();  // in its shadow
-    }
-    const MaterialData& mat = scene_.material(h);
-    const int farM = scene_.farMedium(h);
-    if (!mat.isInterface() || mat.isRough() || scene_.nearMedium(h) != medium || !skyMedium(farM)) return none();
+SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int beam,
+                                 double pick, Vec3* outAir, double* weight) const {
+    const FacetBeams& fb = *beamsInto(medium);
+    std::array<BeamFace, FacetBeams::kMaxChainOrder> faces;
+    const int nFaces = beam >= 0 ? fb.faces(beam, &faces) : 0;
     const SunSource& sun = scene_.sun();
-    const double nm = scene_.media()[static_cast<size_t>(medium)].n(group_.begin);
-    const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
-    const double cosW = std::abs(dot(dir, nf));
-    Vec3 out;
-    if (!refract(-dir, nf, nm, &out)) return none();  // total internal reflection at this facet
-    out = normalize(out);
-    // sample() chose dir so that it leaves toward its disc point; along()'s dir must find the disc.
-    if (facet < 0 && !sun.inDisc(out)) return none();
+    Spec atten(group_.count, 1.0);
+    double geom = 1, solidAngle = sun.solidAngle;
+    Ray r = spawnRay(p, ng, dir);
+    Vec3 d = dir, out;
+    for (int k = 0, m = medium;; ++k) {
+        SurfaceHit h;
+        Spec a;
+        if (k >= fb.maxOrder() || firstSurface(r, m, &h, &a) != 1) return none();
+        atten *= a;
+        if (beam >= 0) {
+            const BeamFace& f = faces[static_cast<size_t>(k)];
+            if (k >= nFaces || h.mesh != f.mesh || h.instance != f.instance || h.face != f.face) return none();  // in its shadow
+        }
+        const MaterialData& mat = scene_.material(h);
+        const int farM = scene_.farMedium(h);
+        if (!mat.isInterface() || mat.isRough() || scene_.nearMedium(h) != m) return none();
+        const double nNear = scene_.media()[static_cast<size_t>(m)].n(group_.begin);
+        const double nFar = scene_.media()[static_cast<size_t>(farM)].n(group_.begin);
+        const Normal3 nf = h.front ? h.ng : -h.ng;  // face normal on the near side
+        const double cosW = std::abs(dot(d, nf));
+        if (!refract(-d, nf, nNear / nFar, &out)) return none();  // total internal reflection at this face
+        out = normalize(out);
+        const double cosA = std::abs(dot(out, nf));
+        // Each refraction: Fresnel T and the face's area seen from the far side over the beam's
+        // cross section (cosA / cosW), and the solid angle compressed by nFar^2 cosA / (nNear^2 cosW)
+        // (etendue).
+        geom *= (1.0 - fresnelDielectric(cosW, nNear, nFar)) * cosA / cosW;
+        solidAngle = solidAngle * (nFar * nFar) * cosA / (nNear * nNear * cosW);
+        if (!skyMedium(farM)) {
+            r = spawnRay(h.p, h.ng, out), m = farM, d = out;
+            continue;
+        }
+        if (beam >= 0 && k + 1 != nFaces) return none();
+        // sample() chose dir so that it leaves toward its disc point; along()'s dir must find the disc.
+        if (beam < 0 && !sun.inDisc(out)) return none();
+        // The air above the face must be clear: light through anything else is another chain.
+        SurfaceHit above;
+        Spec unused;
+        if (firstSurface(spawnRay(h.p, h.ng, out), farM, &above, &unused) != 0) return none();
+        break;
+    }
     if (outAir) *outAir = out;
-    // The air above the facet must be clear: light through anything else is another chain.
-    SurfaceHit above;
-    Spec unused;
-    if (firstSurface(spawnRay(h.p, h.ng, out), farM, &above, &unused) != 0) return none();
-    const double cosA = std::abs(dot(out, nf));
-    // Beam irradiance E_sun T cosA / cosW (the facet's area seen by the sun over the beam's cross
-    // section), spread over the disc's solid angle compressed by cosA / (n^2 cosW) (etendue).
-    const double geom = (1.0 - fresnelDielectric(cosW, nm, 1.0)) * cosA / cosW;
-    const double solidAngle = sun.solidAngle * cosA / (nm * nm * cosW);
-    SunBeam beam = none();
-    for (int i = 0; i < group_.count; ++i) beam.L[i] = sun.irradiance[group_.begin + i] * geom * atten[i] / solidAngle;
-    beam.toSun = dir;
-    beam.pdf = 1.0 / (std::max(beams, 1) * solidAngle);
-    beam.E = beam.L * (1.0 / beam.pdf);
-    beam.valid = true;
-    return beam;
+    if (weight) *weight = geom;
+    SunBeam result = none();
+    for (int i = 0; i < group_.count; ++i) result.L[i] = sun.irradiance[group_.begin + i] * geom * atten[i] / solidAngle;
+    result.toSun = dir;
+    result.pdf = pick / solidAngle;
+    if (result.pdf > 0) result.E = result.L * (1.0 / result.pdf);
+    result.valid = true;
+    return result;
 }
 
 SunBeam SunConnection::beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
                                   double uPick) const {
     const FacetBeams& fb = *beamsInto(medium);
-    // One of the beams, uniformly: the estimate is weighted by their number (beamAlong). They are
-    // kept as they are found; only where more than kKept overlap (a strong caustic) is the lookup
-    // repeated to reach the one picked.
+    // One of the beams, with probability proportional to its weight (its irradiance before
+    // attenuation and shadowing, FacetBeams::weight): the estimate is divided by that probability
+    // (beamAlong). They are kept as they are found; only where more than kKept overlap (a strong
+    // caustic) is the lookup repeated to reach the one picked.
     constexpr int kKept = 16;
-    std::array<std::pair<int, Vec3>, kKept> kept;
+    struct Kept {
+        int beam;
+        Vec3 d;
+        double w;
+    };
+    std::array<Kept, kKept> kept;
+    double total = 0;
     const int beams = fb.forEachContaining(p, ws, [&, n = 0](int f, const Vec3& df, double) mutable {
-        if (n < kKept) kept[static_cast<size_t>(n++)] = {f, df};
+        const double w = fb.weight(f, ws);
+        total += w;
+        if (n < kKept) kept[static_cast<size_t>(n++)] = {f, df, w};
     });
-    if (beams == 0) return none();
-    const int pick = std::min(beams - 1, static_cast<int>(uPick * beams));
-    int facet = -1;
-    Vec3 d;
-    if (pick < kKept) {
-        std::tie(facet, d) = kept[static_cast<size_t>(pick)];
-    } else {
-        int k = 0;
-        fb.forEachContaining(p, ws, [&](int f, const Vec3& df, double) {
-            if (k++ == pick) facet = f, d = df;
-        });
+    if (beams == 0 || !(total > 0)) return none();
+    const double target = uPick * total;
+    double acc = 0;
+    Kept pick{-1, Vec3{0, 0, 0}, 0};
+    for (int k = 0; k < std::min(beams, kKept) && pick.beam < 0; ++k) {
+        const Kept& c = kept[static_cast<size_t>(k)];
+        acc += c.w;
+        if (c.w > 0 && (target < acc || k + 1 == beams)) pick = c;
     }
-    if (facet < 0) return none();
+    if (pick.beam < 0) {
+        acc = 0;
+        Kept last{-1, Vec3{0, 0, 0}, 0};
+        fb.forEachContaining(p, ws, [&](int f, const Vec3& df, double) {
+            if (pick.beam >= 0) return;
+            const double w = fb.weight(f, ws);
+            acc += w;
+            if (w > 0) last = {f, df, w};
+            if (w > 0 && target < acc) pick = last;
+        });
+        if (pick.beam < 0) pick = last;  // (rounding: target at the very end)
+    }
+    if (pick.beam < 0) return none();
     const bool checkFacing = facing.x != 0 || facing.y != 0 || facing.z != 0;
-    if (checkFacing && dot(-d, facing) <= 0) return none();
-    return beamAlong(p, ng, -d, medium, facet, beams);
+    if (checkFacing && dot(-pick.d, facing) <= 0) return none();
+    return beamAlong(p, ng, -pick.d, medium, pick.beam, pick.w / total);
 }
 
 SunBeam SunConnection::smoothAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const {
-    // In a denser medium: follow dir up, through periodic walls and straight through dielectric
-    // objects, to the interface with the air above.
+    // In a denser medium without objects: follow dir up, through periodic walls, to the interface
+    // with the air above.
     SunBeam beam = none();
     const SunSource& sun = scene_.sun();
     const double nm = scene_.media()[static_cast<size_t>(medium)].n(group_.begin);
@@ -336,26 +397,15 @@ SunBeam SunConnection::smoothAlong(const Point3& p, const Normal3& ng, const Vec
     const int farM = scene_.farMedium(h);
     const double nFar = scene_.media()[static_cast<size_t>(farM)].n(group_.begin);
     const Normal3 nf = h.front ? h.ng : -h.ng;  // facet normal on the medium side
+    // The medium's own surface (without objects, the only interface above): refracted through the
+    // facet hit (Snell, Eq. 4.1; Fresnel T_f).
+    if (near != medium) return beam;
+    const double cosW = std::abs(dot(dir, nf));
     Vec3 out;
-    double T, cosA, cosW;
-    if (near == medium) {
-        // The medium's own surface: refracted through the facet hit (Snell, Eq. 4.1; Fresnel T_f).
-        cosW = std::abs(dot(dir, nf));
-        if (!refract(-dir, nf, nm / nFar, &out)) return beam;  // TIR at this facet
-        out = normalize(out);
-        cosA = std::abs(dot(out, nf));
-        T = 1.0 - fresnelDielectric(cosW, nm, nFar);
-    } else {
-        // Leaving a dielectric object into the air (a floating object): the object bends nothing
-        // (straight-path model), and the water surface it displaced is taken as horizontal here.
-        // The face transmits what light from the air direction `out` would enter it with.
-        if (!(dir.z > 0) || !refract(-dir, Vec3{0, 0, -1}, nm / nFar, &out)) return beam;
-        out = normalize(out);
-        cosW = dir.z;
-        cosA = out.z;
-        T = 1.0 - fresnelDielectric(std::abs(dot(out, nf)), nFar,
-                                    scene_.media()[static_cast<size_t>(near)].n(group_.begin));
-    }
+    if (!refract(-dir, nf, nm / nFar, &out)) return beam;  // TIR at this facet
+    out = normalize(out);
+    const double cosA = std::abs(dot(out, nf));
+    const double T = 1.0 - fresnelDielectric(cosW, nm, nFar);
     if (!sun.inDisc(out)) return beam;  // the facet sends it elsewhere
     Spec sky;
     if (!skyTransmittance(spawnRay(h.p, h.ng, out), farM, &sky)) return beam;
@@ -429,7 +479,7 @@ Spec SunConnection::atGlossyHit(const SurfaceHit& h, const Frame& frame, const B
     // Would the event that connects wo to that side (reflection if wo is on it, else a rough
     // transmission) leave a chain whose disc counts? If not, an earlier vertex's estimate covers it.
     SunChain after = chain;
-    after.record((wo.z > 0) != (side > 0), true);
+    after.record((wo.z > 0) != (side > 0), true, true, 1.0);  // a transmission toward the air side
     if (!after.countsSun()) return L;
     *neeSide = side;
     const Vec3 ws = sun.sampleDirection(u1, u2);
@@ -451,11 +501,12 @@ Spec SunConnection::atGlossyHit(const SurfaceHit& h, const Frame& frame, const B
     return L;
 }
 
-SunChain SunConnection::chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide) const {
+SunChain SunConnection::chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide, bool toSky,
+                                         double legZ) const {
     if (neeSide != 0 && (s.wi.z > 0) == (neeSide > 0)) return SunChain::afterGlossy(s.pdf);
     SunChain c = chain;
     c.glossyPdf = 0;
-    c.record(s.isTransmission(), true);
+    c.record(s.isTransmission(), true, toSky, legZ);
     return c;
 }
 
@@ -479,7 +530,7 @@ Spec SunConnection::direct(const Point3& p, const Normal3& n, int medium, bool s
         if (!scene_.sun().enabled) return E;
         const Vec3 ws = scene_.sun().sampleDirection(u1, u2);
         fb->forEachContaining(p, ws, [&](int f, const Vec3& d, double) {
-            const SunBeam b = beamAlong(p, Normal3{0, 0, 0}, -d, medium, f, 1);
+            const SunBeam b = beamAlong(p, Normal3{0, 0, 0}, -d, medium, f, 1.0);
             const double c = b.valid ? dot(b.toSun, n) : 0.0;
             if (c > 0) E += b.E * (scalar ? 1.0 : c);
         });

@@ -31,40 +31,50 @@ enum class GlossySun { Mis, NeeOnly, BsdfOnly };
 // a ray has gone through: the sun estimate at that vertex covers some chains of events, and a ray
 // reaching the solar disc along one of those does not count it again.
 //
-// A vertex in air (a shadow ray) covers chains with no reflection and no rough event, through any
-// number of smooth interfaces (dielectric objects, crossed by the straight-path model). A vertex in
-// a denser medium lit through facet beams (render/facet_beams.h) covers exactly the chains of one
-// smooth transmission, at a facet between its own medium and the air, and nothing else (no wall
-// counts as an event): a second crossing, a reflection (total internal reflection under a steep
-// facet) or a re-entry is left to the rays that sample the BSDF and the phase function, which count
-// the disc when they reach it. A vertex in water under a rough interface (SunConnection::sample's
-// rough strategy) covers chains with no reflection and exactly one rough transmission. A glossy (rough interface) hit estimates the sun
-// itself for the side of the surface where air is (SunConnection::atGlossyHit); the ray it samples
-// toward that side then counts the disc with the MIS weight of BSDF sampling if it reaches it
-// directly, and fully after any further event (afterGlossy).
+// Each vertex's estimate covers chains with no reflection, a fixed number of rough transmissions
+// (one for the rough-interface strategy, else none) and a range [coverMin, coverMax] of smooth
+// ones (SunConnection::chainAfterVertex sets them):
+//  * a shadow ray in air covers 0 smooth transmissions; in the straight-path mode (the dirsig
+//    estimator: dielectric objects and wave crests crossed straight, docs/rendering.md) any number;
+//  * a vertex in a denser medium lit through facet beams (render/facet_beams.h) covers 1 up to the
+//    beams' maxOrder() (1 without dielectric objects, else the chains' length), entering from the
+//    air only at the last (intoSky == 1), except single refractions whose leg from the vertex is
+//    within FacetBeams::kMinSlope of the horizontal (not in the grid): those, a reflection (total
+//    internal reflection under a steep facet), a longer chain or a re-entry are left to the rays
+//    that sample the BSDF and the phase function, which count the disc when they reach it;
+//  * under flat water without objects (the straight path through the facet above) exactly 1, any
+//    number in the straight-path mode;
+//  * the rough-interface strategy (SunConnection::sample in water under a rough interface) one
+//    rough transmission and no smooth one (any number in the straight-path mode).
+// No wall counts as an event. A glossy (rough interface) hit estimates the sun itself for the side
+// of the surface where air is (SunConnection::atGlossyHit); the ray it samples toward that side then
+// counts the disc with the MIS weight of BSDF sampling if it reaches it directly, and fully after
+// any further event (afterGlossy).
 struct SunChain {
+    static constexpr int kAny = 1 << 30;
     bool fromSensor = true;  // no scattering vertex before (or a glossy sun estimate): the disc counts
     bool reflected = false;
     int transmissions = 0;       // smooth interfaces
     int roughTransmissions = 0;  // rough interfaces
+    int intoSky = 0;             // transmissions into a sky medium (the air), smooth or rough
     bool roughSun = false;       // the vertex's sun estimate was the rough-interface strategy
-    bool beamSun = false;        // the vertex's sun estimate was the facet beams
+    int coverMin = 0, coverMax = kAny;  // smooth transmissions the vertex's estimate covers
+    bool oneSkyEntry = false;    // ... only if the chain entered the air once (facet beams)
+    bool firstLegFlat = false;   // the ray's first leg rose less steeply than FacetBeams::kMinSlope
     double glossyPdf = 0;        // > 0: left a glossy hit whose sun estimate covered the direct disc
     bool noEstimate = false;     // the vertex made no sun estimate (setInWaterSunEstimates(false))
     bool countsSun() const {
         if (fromSensor || reflected || noEstimate) return true;
-        // In air, smooth transmissions are covered in any number (the shadow ray crosses dielectric
-        // objects along the straight-path model); through facet beams exactly one.
-        const bool covered = roughSun  ? roughTransmissions == 1
-                             : beamSun ? roughTransmissions == 0 && transmissions == 1
-                                       : roughTransmissions == 0;
+        const bool covered = roughTransmissions == (roughSun ? 1 : 0) && transmissions >= coverMin &&
+                             transmissions <= coverMax &&
+                             (!oneSkyEntry || (intoSky <= 1 && !(transmissions == 1 && firstLegFlat)));
         return !covered;
     }
-    static SunChain afterVertex(bool rough = false, bool beams = false) {
+    static SunChain afterVertex(bool rough, int coverMin, int coverMax, bool oneSkyEntry) {
         SunChain c;
         c.fromSensor = false;
         c.roughSun = rough;
-        c.beamSun = beams && !rough;
+        c.coverMin = coverMin, c.coverMax = coverMax, c.oneSkyEntry = oneSkyEntry;
         return c;
     }
     static SunChain afterGlossy(double bsdfPdf) {
@@ -74,11 +84,14 @@ struct SunChain {
     }
     // Any surface hit ends the direct flight from a glossy vertex.
     void hitSurface() { glossyPdf = 0; }
-    // The chain after an interface event that reflected or transmitted (smooth or rough) the ray.
-    void record(bool transmitted, bool rough) {
+    // The chain after an interface event that reflected or transmitted (smooth or rough) the ray
+    // arriving with direction z-component legZ, into a sky medium or not.
+    void record(bool transmitted, bool rough, bool toSky, double legZ) {
+        if (!reflected && transmissions == 0 && roughTransmissions == 0) firstLegFlat = legZ < FacetBeams::kMinSlope;
         if (!transmitted) reflected = true;
         else if (rough) ++roughTransmissions;
         else ++transmissions;
+        if (transmitted && toSky) ++intoSky;
     }
 };
 
@@ -104,7 +117,11 @@ public:
     // counts as unscattered); empty = no medium does. The dirsig estimator sets it for MediumPM
     // media when render.photons.effective_scattering is set, so that the direct sun, the camera
     // rays and the volume map (which then stores no forward-cone events) agree.
-    SunConnection(const Scene& scene, BandGroup group, GlossySun glossy, std::vector<bool> effectiveExtinction = {});
+    // straightPath: shadow rays from the air cross dielectric objects and wave crests along the
+    // straight-path model (the dirsig estimator, after the dissertation); otherwise every estimate
+    // follows real refractions only, and anything else is left to sampling (the path estimator).
+    SunConnection(const Scene& scene, BandGroup group, GlossySun glossy, std::vector<bool> effectiveExtinction = {},
+                  bool straightPath = false);
 
     // The sun seen from p along the in-medium direction `dir` (the pdf is that of sample() for this
     // direction). In air: a shadow ray along dir, valid inside the solar disc. In a denser medium
@@ -117,18 +134,18 @@ public:
     // point inside a medium). If `facing` is not zero, directions with dot(toSun, facing) <= 0 are
     // rejected before any ray is cast. It draws two numbers from rng whatever the geometry (four in a
     // medium bounded by a rough interface, so the stream layout depends only on the medium):
-    //  * in air: a shadow ray toward a uniformly sampled point of the disc (through dielectric
-    //    objects along the straight-path model: skyTransmittance);
-    //  * in a denser medium with facet beams (beamsInto): the beams that contain p for that disc
-    //    point, one of them picked uniformly (from the first number's low bits) and weighted by
-    //    their number, traced back to its facet (the first surface on the way: else it is shadowed)
-    //    and on to the sky, which must be clear (beamAlong);
-    //  * in a denser medium holding dielectric objects: the in-medium direction that a horizontal
-    //    interface refracts toward that point is traced to the interface actually above (straight through submerged
-    //    dielectric objects; a floating object's dry face stands for a horizontal water surface),
-    //    refracted through the facet hit (Snell, Fresnel T_f), and counted if it leaves inside the
-    //    disc and reaches the sky unoccluded, with the medium's transmittance along the leg and the
-    //    solid-angle compression cos(theta_air)/cos(theta_medium);
+    //  * in air: a shadow ray toward a uniformly sampled point of the disc (in the straight-path
+    //    mode through dielectric objects along the straight-path model: skyTransmittance);
+    //  * in a denser medium with facet beams (beamsInto: under waves, or holding dielectric
+    //    objects): the beams that contain p for that disc point (facets, and chains of refractions
+    //    through objects), one of them picked uniformly (from the first number's low bits) and
+    //    weighted by their number, traced back through its faces (each the first surface on the
+    //    way: else it is shadowed) and on to the sky, which must be clear (beamAlong);
+    //  * under flat water without objects: the in-medium direction that a horizontal interface
+    //    refracts toward that point is traced to the interface above, refracted through the facet
+    //    hit (Snell, Fresnel T_f), and counted if it leaves inside the disc and reaches the sky
+    //    unoccluded, with the medium's transmittance along the leg and the solid-angle compression
+    //    cos(theta_air)/cos(theta_medium);
     //  * in a medium under a rough interface: the direction toward the surface is drawn from the
     //    interface's transmission lobe for light from the sampled disc point (the rough BxDF of a
     //    horizontal surface, RoughDielectricBxDF::sampleTransmission), traced to the interface, and
@@ -158,14 +175,12 @@ public:
                      RandomStream& rng, int* neeSide) const;
     // The chain of the ray that leaves a glossy hit along the sampled direction s (local frame):
     // after a next-event estimate on that side, afterGlossy(s.pdf); otherwise `chain` with the event
-    // recorded.
-    SunChain chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide) const;
+    // recorded (toSky: a transmission into a sky medium; legZ: the arriving ray's direction z).
+    SunChain chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide, bool toSky, double legZ) const;
     // The SunChain of a ray leaving a scattering vertex in `medium`.
-    SunChain chainAfterVertex(int medium) const {
-        SunChain c = SunChain::afterVertex(roughAbove(medium), beamsInto(medium) != nullptr);
-        c.noEstimate = !estimatesIn(medium);
-        return c;
-    }
+    SunChain chainAfterVertex(int medium) const;
+    // Is medium m one the sun shines through (index 1, nothing attenuates: the air)?
+    bool skyMedium(int m) const;
     // Whether sample(), along() and direct() estimate the sun at points in `medium`: always in the
     // air; in a denser medium unless setInWaterSunEstimates(false) was in force when this connection
     // was made.
@@ -193,24 +208,22 @@ public:
     Spec bandValues(const std::vector<double>& v) const;
 
 private:
-    // Is medium m one the sun shines through (index 1, nothing attenuates: the air)?
-    bool skyMedium(int m) const;
     // Transmittance toward the sun of a straight ray from a sky medium: 1 if nothing is in the way;
-    // through smooth interfaces (dielectric objects, a wave crest) the Fresnel transmittance of a
-    // straight crossing at each and Beer–Lambert inside (the straight-path model); false at an
-    // opaque surface or a rough interface.
+    // in the straight-path mode through smooth interfaces (dielectric objects, a wave crest) the
+    // Fresnel transmittance of a straight crossing at each and Beer–Lambert inside; false at an
+    // opaque surface, a rough interface, or (not in that mode) any interface.
     bool skyTransmittance(const Ray& ray, int medium, Spec* T) const;
     // From p in a dense medium along dir up to the first interface whose far side is a sky medium,
-    // through periodic walls and straight through dielectric objects on the way (Fresnel
+    // through periodic walls and (straight-path mode) straight through dielectric objects (Fresnel
     // transmittance per crossing, each medium's transmittance): the hit, the medium on its near
     // side and the product; false if the ray meets an opaque surface or nothing first.
     bool traceToSky(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h, int* near,
                     Spec* atten) const;
-    // The walk both of the above take: straight through smooth interfaces and periodic walls from
-    // `ray` in `medium`, multiplying *T by each medium's transmittance and each straight crossing's
-    // Fresnel transmittance, until the ray escapes (returns Escaped), meets something that stops it
-    // (Blocked), or, if stopAtSky, reaches an interface whose far side is a sky medium (AtSky, with
-    // *h and *near set).
+    // The walk both of the above take: straight through periodic walls and (straight-path mode)
+    // smooth interfaces from `ray` in `medium`, multiplying *T by each medium's transmittance and
+    // each straight crossing's Fresnel transmittance, until the ray escapes (returns Escaped),
+    // meets something that stops it (Blocked), or, if stopAtSky, reaches an interface whose far
+    // side is a sky medium (AtSky, with *h and *near set).
     enum class Walk { Escaped, Blocked, AtSky };
     Walk straightWalk(Ray ray, int medium, bool stopAtSky, Spec* T, SurfaceHit* h, int* near) const;
     // The rough-interface sun of along/sample: light from the disc direction ws transmitted toward
@@ -221,13 +234,16 @@ private:
     SunBeam smoothAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium) const;
     double misSunWeight(double bsdfPdf) const;  // weight of a BSDF-sampled disc hit
     // The facet-beam sun (sample and along in a medium with beams): from p along dir, through
-    // periodic walls only, to the first surface h, which must be a smooth facet between `medium`
-    // and the air (and facet `facet` of the beams when >= 0). Refracted there toward the disc
-    // direction it sends light from (which must be ws when given, else lie in the disc), with the
-    // air above it clear of everything. `beams` is the number of beams that contain p for that disc
-    // direction: the estimate picks one of them.
-    SunBeam beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int facet, int beams,
-                      Vec3* outAir = nullptr) const;
+    // periodic walls only, to the first surface, which must be a smooth interface of `medium`, and
+    // refracted there; on through every further smooth face into a dense medium, up to the beams'
+    // maxOrder() refractions, until one refracts it into the air, whose light must then come
+    // straight from the sky. With `beam` >= 0 the faces crossed must be that beam's, in order (the
+    // direction then leaves toward the disc point it was made for); with -1 the direction must
+    // leave inside the disc. `pick` is the probability with which the estimate chose this beam
+    // among those that contain p for that disc direction (the density is pick / solid angle).
+    // *weight: the beam's weight as FacetBeams::weight computes it, from the faces actually crossed.
+    SunBeam beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int beam, double pick,
+                      Vec3* outAir = nullptr, double* weight = nullptr) const;
     SunBeam beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
                        double uPick) const;
     // Straight along `ray` through periodic walls only: 1 and the first other surface (*h, and the
@@ -248,6 +264,7 @@ private:
     std::vector<Frame> roughFrame_;
     std::vector<std::unique_ptr<FacetBeams>> beams_;  // per medium (see beamsInto)
     bool inWater_ = true;                             // see estimatesIn
+    bool straight_ = false;                           // the straight-path mode (constructor)
 };
 
 // For benchmarks of the connection's worth (bench/bench_nadir_connection.cpp), not a scene

@@ -32,6 +32,7 @@
 #include "render/sun_connection.h"
 #include "render/scene.h"
 #include "tests/render/render_test_scenes.h"
+#include "tests/support/connection_check.h"
 
 namespace littoral::render {
 namespace {
@@ -484,22 +485,8 @@ TEST(FacetBeams, PathWithoutAnyInWaterSunEstimateFindsTheSameSeabed) {
     s.materials[1] = sand;
     s.meshes[0].materials[1] = "sand";
     s.sensors.push_back(ortho("nadir", {0, 0, 3}, {0, 0, -1}, {0, 1, 0}, 16, 16, 0.25));
-    auto meanOf = [&](bool connection, int spp) {
-        s.sensors[0].samplesPerPixel = spp;
-        setInWaterSunEstimates(connection);
-        const Scene scene(s, ".");
-        const SensorImage img = renderSensor(scene, s.sensors[0], quiet());
-        setInWaterSunEstimates(true);
-        double m = 0, v = 0;
-        for (size_t i = 0; i < img.film.pixels.size(); ++i) {
-            m += img.film.pixels[i];
-            v += std::pow(img.standardError->pixels[i], 2);
-        }
-        const double n = static_cast<double>(img.film.pixels.size());
-        return std::pair{m / n, std::sqrt(v) / n};
-    };
-    const auto [with, withSe] = meanOf(true, 512);
-    const auto [without, withoutSe] = meanOf(false, 8192);
+    const auto [with, withSe] = testing_support::meanOfSensorRender(s, ".", true, 512);
+    const auto [without, withoutSe] = testing_support::meanOfSensorRender(s, ".", false, 8192);
     const double tol = 4 * std::hypot(withSe, withoutSe);
     std::printf("[ facet beams ] sand radiance, path estimator: through the beams %.4f +- %.4f, without in-water sun "
                 "estimates %.4f +- %.4f (%.1f combined se apart)\n",

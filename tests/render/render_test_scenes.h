@@ -250,7 +250,16 @@ template <class H> TriMesh heightSlab(double L, double depth, int n, H h) {
         quad(top(0, k + 1), bot(0, k + 1), bot(0, k), top(0, k), 2);
         quad(top(n, k), bot(n, k), bot(n, k + 1), top(n, k + 1), 2);
     }
-    orientAway(m, {0, 0, -0.5 * depth});  // outward (the slab is convex enough for small slopes)
+    // Outward by part: the surface up, the floor down, the walls away from the axis. (Orienting
+    // away from a centre point flipped surface facets near the corners that tilt toward it; rays
+    // through them took the wrong medium: a path tracer then found the floor "in the air".)
+    for (size_t f = 0; f < m.triangles.size(); ++f) {
+        auto& t = m.triangles[f];
+        const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+        const Vec3 n = cross(b - a, c - a), g = (a + b + c) * (1.0 / 3.0);
+        const double out = m.faceMaterial[f] == 0 ? n.z : m.faceMaterial[f] == 1 ? -n.z : n.x * g.x + n.y * g.y;
+        if (out < 0) std::swap(t[1], t[2]);
+    }
     return m;
 }
 
