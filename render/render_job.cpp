@@ -161,6 +161,19 @@ void warnIfPathsWereCut(int64_t traced0, int64_t cut0, const RenderConfig& confi
               100.0 * static_cast<double>(cut) / static_cast<double>(traced), cut, traced, config.maxBounces);
 }
 
+// The dirsig estimator's shadow rays that crossed a dielectric object or a wave crest along the
+// straight-path model during this job (counter before: straight0): a warning, since that sunlight
+// is dimmed but neither displaced nor focused.
+void warnIfStraightPaths(int64_t straight0) {
+    const int64_t n = statCounter(kStraightPathSun).value - straight0;
+    if (n <= 0) return;
+    log::warn("{} sun estimates at points in the air reached the sun through a dielectric object or a wave crest "
+              "along the dirsig estimator's straight-path model: that light is dimmed (Fresnel, absorption) but not "
+              "displaced or focused (docs/rendering.md, \"Dielectric objects\"). The path estimator, or solver: "
+              "surface-pm on the surfaces that receive it, refracts it exactly",
+              n);
+}
+
 // The detector's SNR per band, and a warning when a band saturates (more than 1 % of the pixels
 // at the full well).
 void reportDetector(const std::string& sensor, const DetectorImage& det, const ir::SensorDetector& d,
@@ -345,6 +358,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
     const RenderConfig config = checkBeforeRendering(ir, scene, sensors, opts, ro);
     const bool probesToo = opts.sensor.empty();
     const int64_t traced0 = statCounter(kPathsTraced).value, cut0 = statCounter(kPathsCut).value;
+    const int64_t straight0 = statCounter(kStraightPathSun).value;
 
     // Progressive passes (one unless photon maps with render.progressive.passes > 1).
     const int passes = config.usesPhotons() ? config.passes : 1;
@@ -392,6 +406,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         if (pass == passes) finish(state, &res.images, &res.probes, images, probes);
     }
     warnIfPathsWereCut(traced0, cut0, config);
+    warnIfStraightPaths(straight0);
     applyResponseBands(ir.render.responseBands, &res);
     warnAboutUncertainProbes(res.probes, outputBands(ir, scene));
     // Rank 0 alone holds the images (the other ranks rendered their share of the tiles and sent

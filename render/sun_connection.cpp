@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/stats.h"
 #include "core/units.h"
 #include "render/sampling.h"
 
@@ -141,9 +142,10 @@ bool SunConnection::skyMedium(int m) const {
     return md.n(group_.begin) == 1.0 && !md.attenuating();
 }
 
-SunConnection::Walk SunConnection::straightWalk(Ray r, int m, bool stopAtSky, Spec* T, SurfaceHit* h,
-                                                int* near) const {
+SunConnection::Walk SunConnection::straightWalk(Ray r, int m, bool stopAtSky, Spec* T, SurfaceHit* h, int* near,
+                                                int* crossed) const {
     for (int k = 0, wraps = 0; k < kMaxStraightCrossings;) {
+        if (crossed) *crossed = k;
         const Medium& md = scene_.media()[static_cast<size_t>(m)];
         if (!scene_.geometry().intersect(r, h)) return md.attenuating() ? Walk::Blocked : Walk::Escaped;
         if (md.attenuating()) *T *= transmittance(r, h->t, m);
@@ -182,7 +184,13 @@ bool SunConnection::skyTransmittance(const Ray& ray, int medium, Spec* T) const 
     if (!scene_.geometry().occluded(ray)) return true;  // the common case: nothing in the way
     SurfaceHit h;
     int near = -1;
-    return straightWalk(ray, medium, false, T, &h, &near) == Walk::Escaped;
+    int crossed = 0;
+    if (straightWalk(ray, medium, false, T, &h, &near, &crossed) != Walk::Escaped) return false;
+    if (crossed > 0) {
+        static StatCounter& straight = statCounter(kStraightPathSun);
+        straight.add();
+    }
+    return true;
 }
 
 bool SunConnection::traceToSky(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, SurfaceHit* h,

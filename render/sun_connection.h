@@ -23,6 +23,10 @@
 
 namespace littoral::render {
 
+// Statistics counter (core/stats.h): sun estimates of the straight-path mode that reached the sky
+// through a dielectric object or a wave crest without refraction (runRenderJob warns with the count).
+inline constexpr const char* kStraightPathSun = "sun estimates: straight-path crossings of dielectric objects or crests";
+
 // How a glossy (rough interface) hit gets the sun: next-event estimation and BSDF sampling
 // combined by the power heuristic (the default), or one alone (for tests: all three agree).
 enum class GlossySun { Mis, NeeOnly, BsdfOnly };
@@ -223,9 +227,10 @@ private:
     // smooth interfaces from `ray` in `medium`, multiplying *T by each medium's transmittance and
     // each straight crossing's Fresnel transmittance, until the ray escapes (returns Escaped),
     // meets something that stops it (Blocked), or, if stopAtSky, reaches an interface whose far
-    // side is a sky medium (AtSky, with *h and *near set).
+    // side is a sky medium (AtSky, with *h and *near set). *crossed: the interfaces crossed straight.
     enum class Walk { Escaped, Blocked, AtSky };
-    Walk straightWalk(Ray ray, int medium, bool stopAtSky, Spec* T, SurfaceHit* h, int* near) const;
+    Walk straightWalk(Ray ray, int medium, bool stopAtSky, Spec* T, SurfaceHit* h, int* near,
+                      int* crossed = nullptr) const;
     // The rough-interface sun of along/sample: light from the disc direction ws transmitted toward
     // p along -dir by the facet hit; pdf is the density of dir.
     SunBeam roughAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, const Vec3& ws,
