@@ -192,14 +192,21 @@ Spread spreadOf(const std::array<Vec3, kRim + 1>& t) {
     return s;
 }
 
-// A box around a beam: the face's vertices swept along each of its directions to the scene's box
-// (in a periodic domain only its top and bottom end the sweep, capped at `cap`), widened by what
-// the directions between the sampled ones may add.
+std::array<Point3, 8> corners(const BBox3& b) {
+    std::array<Point3, 8> c;
+    for (int k = 0; k < 8; ++k)
+        c[static_cast<size_t>(k)] = {(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z};
+    return c;
+}
+
+// A box around a beam: the corners of the box of the face's lit part swept along each of its
+// directions to the scene's box (in a periodic domain only its top and bottom end the sweep,
+// capped at `cap`), widened by what the directions between the sampled ones may add.
 BBox3 sweptBox(const BeamLink& L, const std::array<Vec3, kRim + 1>& dirs, const BBox3& scene, bool periodic,
                double cap) {
     BBox3 box;
     double longest = 0;
-    for (const Point3& v : {L.a, L.b, L.c}) {
+    for (const Point3& v : corners(L.faceBox)) {
         box.expand(v);
         for (const Vec3& d : dirs) {
             if (std::isnan(d.x)) continue;
@@ -285,7 +292,11 @@ struct ChainBuilder {
             any = any || ok;
         }
         if (!any) return;
+        if (L.faceBox.empty())
+            for (const Point3& v : {L.a, L.b, L.c}) L.faceBox.expand(v);
         L.box = sweptBox(L, t, bounds, periodic, cap);
+        const Spread sp = spreadOf(t);
+        L.mean = sp.mean, L.tanSpread = sp.tanAngle;
         links.push_back(L);
         travel.push_back(t);
     }
@@ -321,6 +332,28 @@ struct ChainBuilder {
         });
     }
 
+    // The box of the part of F that L's beam (its image moved by S) can light: the corners of L's
+    // lit part carried along each of its directions to F's plane, widened for the directions
+    // between the sampled ones, and clipped to F's box (empty: it lights none of F).
+    static BBox3 litPart(const BeamLink& L, const Vec3& S, const std::array<Vec3, kRim + 1>& tr, const DenseFace& F,
+                         const BBox3& fbox) {
+        BBox3 lit;
+        double far = 0;
+        for (const Vec3& d : tr) {
+            if (std::isnan(d.x)) continue;
+            const double dn = dot(F.nOut, d);
+            if (std::abs(dn) < 1e-3) return fbox;  // (nearly) parallel to F: no bound but F's
+            for (const Point3& v : corners(L.faceBox)) {
+                const double t = dot(F.nOut, F.a - (v + S)) / dn;
+                lit.expand(v + S + d * t);
+                far = std::max(far, std::abs(t));
+            }
+        }
+        const double e = 1e-6 * (1 + length(fbox.extent())) + 1.2 * far * spreadOf(tr).tanAngle;
+        lit.lo = vmax(lit.lo - Vec3{e, e, e}, fbox.lo), lit.hi = vmin(lit.hi + Vec3{e, e, e}, fbox.hi);
+        return lit;
+    }
+
     // The links of order `order` from those of order - 1, links[begin, end).
     void extend(size_t begin, size_t end, int order, const std::vector<double>& index) {
         for (size_t li = begin; li < end; ++li) {
@@ -336,6 +369,8 @@ struct ChainBuilder {
                     // The parent's image moved by S lights F: F moved by -S overlaps the parent's beam.
                     if (!boxesOverlap(L.box, fbox, -S) || !beamReaches(L, S, tr, F.a, F.b, F.c, nFrom)) continue;
                     BeamLink K;
+                    K.faceBox = litPart(L, S, tr, F, fbox);
+                    if (K.faceBox.empty()) continue;
                     K.a = F.a, K.b = F.b, K.c = F.c, K.nFrom = nFrom;
                     K.from = L.to, K.to = L.to == F.out ? F.in : F.out;
                     K.eta = index[static_cast<size_t>(K.from)] / index[static_cast<size_t>(K.to)];
@@ -392,8 +427,74 @@ void FacetBeams::buildChains(const Scene& scene, int medium, const std::vector<d
         if (links_.back().parent >= 0) links_.back().parent = keep[static_cast<size_t>(links_.back().parent)];
     }
     for (const int f : finals) finals_.push_back(keep[static_cast<size_t>(f)]);
+    buildChainGrid(scene.domain());
     log::debug("facet beams into medium {}: {} chains through dielectric objects ({} links)", medium, finals_.size(),
                links_.size());
+}
+
+bool FacetBeams::nearBeam(const BeamLink& l, const Point3& p) {
+    // Back from p along the mean direction to the face's plane; a disc direction within the spread
+    // meets the plane within t tan(spread) / cos(incidence) of that point (widened by 1.2 for the
+    // second-order terms). Near grazing incidence the test is skipped.
+    const double c = -dot(l.nFrom, l.mean);
+    if (!(c > 0.05)) return true;
+    const double t = -dot(l.nFrom, p - l.a) / c;
+    if (!(t > 0)) return false;  // p lies before the face
+    const Point3 q = p - l.mean * t;
+    const double m = 1.2 * t * l.tanSpread / c + 1e-6 * (1 + t + length(l.faceBox.extent()));
+    return q.x >= l.faceBox.lo.x - m && q.x <= l.faceBox.hi.x + m && q.y >= l.faceBox.lo.y - m &&
+           q.y <= l.faceBox.hi.y + m && q.z >= l.faceBox.lo.z - m && q.z <= l.faceBox.hi.z + m;
+}
+
+std::pair<const FacetBeams::ChainEntry*, const FacetBeams::ChainEntry*> FacetBeams::chainCell(const Point3& p) const {
+    double x = p.x, y = p.y;
+    if (periodic_) x = wrapInto(x, cx0_, px_), y = wrapInto(y, cy0_, py_);
+    const double fi = (x - cx0_) / ccell_, fj = (y - cy0_) / ccell_;
+    if (!(fi >= 0 && fj >= 0 && fi < cnx_ && fj < cny_)) return {nullptr, nullptr};
+    const size_t k = static_cast<size_t>(static_cast<int>(fj)) * cnx_ + static_cast<size_t>(static_cast<int>(fi));
+    return {chainEntries_.data() + chainOffsets_[k], chainEntries_.data() + chainOffsets_[k + 1]};
+}
+
+void FacetBeams::buildChainGrid(const ir::Domain& dom) {
+    // Over the domain when periodic (each chain's box moved into it by its images), else over
+    // the boxes; cells about half the boxes' mean width, at most 256 a side.
+    BBox3 all;
+    double width = 0;
+    for (const int f : finals_) {
+        const BBox3& b = links_[static_cast<size_t>(f)].box;
+        all.expand(b);
+        width += std::max(b.hi.x - b.lo.x, b.hi.y - b.lo.y) / static_cast<double>(finals_.size());
+    }
+    if (finals_.empty()) return;
+    cx0_ = periodic_ ? dom.x0 : all.lo.x, cy0_ = periodic_ ? dom.y0 : all.lo.y;
+    const double sx = periodic_ ? px_ : all.hi.x - all.lo.x, sy = periodic_ ? py_ : all.hi.y - all.lo.y;
+    ccell_ = std::max({0.5 * width, std::max(sx, sy) / 256, 1e-6});
+    cnx_ = std::clamp(static_cast<int>(std::ceil(sx / ccell_)), 1, 256);
+    cny_ = std::clamp(static_cast<int>(std::ceil(sy / ccell_)), 1, 256);
+    chainOffsets_.assign(static_cast<size_t>(cnx_) * cny_ + 1, 0);
+    std::vector<std::pair<size_t, ChainEntry>> entries;
+    for (size_t k = 0; k < finals_.size(); ++k) {
+        const BBox3& b = links_[static_cast<size_t>(finals_[k])].box;
+        const int r = periodic_ ? 1 : 0;
+        for (int ix = -r; ix <= r; ++ix)
+            for (int iy = -r; iy <= r; ++iy) {
+                // The points p whose image p + (ix px, iy py) lies in the box: the box moved back.
+                const double x0 = b.lo.x - ix * px_, x1 = b.hi.x - ix * px_, y0 = b.lo.y - iy * py_, y1 = b.hi.y - iy * py_;
+                const int i0 = std::max(0, static_cast<int>(std::floor((x0 - cx0_) / ccell_)));
+                const int i1 = std::min(cnx_ - 1, static_cast<int>(std::floor((x1 - cx0_) / ccell_)));
+                const int j0 = std::max(0, static_cast<int>(std::floor((y0 - cy0_) / ccell_)));
+                const int j1 = std::min(cny_ - 1, static_cast<int>(std::floor((y1 - cy0_) / ccell_)));
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i)
+                        entries.push_back({static_cast<size_t>(j) * cnx_ + i,
+                                           ChainEntry{static_cast<int32_t>(k), static_cast<int8_t>(ix), static_cast<int8_t>(iy)}});
+            }
+    }
+    std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& e : entries) ++chainOffsets_[e.first + 1];
+    for (size_t k = 1; k < chainOffsets_.size(); ++k) chainOffsets_[k] += chainOffsets_[k - 1];
+    chainEntries_.reserve(entries.size());
+    for (const auto& e : entries) chainEntries_.push_back(e.second);
 }
 
 bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {

@@ -27,6 +27,7 @@
 // bounding-box test) at every query, after the grid's facets.
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/bbox.h"
@@ -59,6 +60,11 @@ struct BeamLink {
     Vec3 shift;       // periodic domains: the parent's image that lights this face is the parent moved by shift
     int order = 1;
     BBox3 box;        // bounds this link's beam inside the scene (the links that end in the medium)
+    // A quick test before the exact one: the beam's mean direction over the disc, the tangent of
+    // the largest angle of a disc direction's beam from it, and the face's box.
+    Vec3 mean;
+    double tanSpread = 0;
+    BBox3 faceBox;
 };
 
 // A face a beam's chain crosses, in order from the point back toward the sun.
@@ -115,6 +121,16 @@ private:
     // Does facet i's beam along d contain p? Sets *s (distance back to the facet).
     bool contains(int i, const Point3& p, const Vec3& d, double* s) const;
     bool containsImage(const BeamFacet& f, const Point3& p, const Vec3& d, const Vec3& S, double* s) const;
+    // The chains' grid: cells over the plan view (the domain when periodic), each listing the
+    // chains whose box, moved by a periodic image (ix, iy periods), overlaps it.
+    struct ChainEntry {
+        int32_t final;
+        int8_t ix, iy;
+    };
+    std::pair<const ChainEntry*, const ChainEntry*> chainCell(const Point3& p) const;
+    void buildChainGrid(const ir::Domain& dom);
+    // The quick test: does p (unwrapped) lie near link l's beam along its mean direction?
+    static bool nearBeam(const BeamLink& l, const Point3& p);
     // Does chain link j's beam for ws contain p (unwrapped)? Sets *d and *s as forEachContaining.
     bool chainContains(int j, const Point3& p, const Vec3& ws, Vec3* d, double* s) const;
     // The travel directions of light from ws along link j's chain, first face first ([0, order)).
@@ -159,6 +175,10 @@ private:
     std::vector<BeamLink> links_;
     std::vector<int> finals_;
     int maxOrder_ = 1;
+    double cx0_ = 0, cy0_ = 0, ccell_ = 1;
+    int cnx_ = 0, cny_ = 0;
+    std::vector<uint32_t> chainOffsets_;
+    std::vector<ChainEntry> chainEntries_;
 };
 
 template <class F> int FacetBeams::forEachContaining(const Point3& p, const Vec3& ws, F&& f) const {
@@ -174,19 +194,18 @@ template <class F> int FacetBeams::forEachContaining(const Point3& p, const Vec3
         ++count;
         f(e.facet, d, s);
     }
+    if (finals_.empty()) return count;
     const int nf = static_cast<int>(facets_.size());
-    for (size_t k = 0; k < finals_.size(); ++k) {
-        const BeamLink& l = links_[static_cast<size_t>(finals_[k])];
-        for (int ix = periodic_ ? -1 : 0; ix <= (periodic_ ? 1 : 0); ++ix)
-            for (int iy = periodic_ ? -1 : 0; iy <= (periodic_ ? 1 : 0); ++iy) {
-                const Point3 q{p.x + ix * px_, p.y + iy * py_, p.z};
-                Vec3 d;
-                double s = 0;
-                if (!l.box.contains(q) || !chainContains(finals_[k], q, ws, &d, &s)) continue;
-                ++count;
-                f(nf + static_cast<int>(k), d, s);
-                ix = iy = 2;  // a beam narrower than the period holds one image of p
-            }
+    const auto [begin, end] = chainCell(p);
+    for (const ChainEntry* e = begin; e != end; ++e) {
+        const BeamLink& l = links_[static_cast<size_t>(finals_[static_cast<size_t>(e->final)])];
+        const Point3 q{p.x + e->ix * px_, p.y + e->iy * py_, p.z};
+        Vec3 d;
+        double s = 0;
+        if (!l.box.contains(q) || !nearBeam(l, q) || !chainContains(finals_[static_cast<size_t>(e->final)], q, ws, &d, &s))
+            continue;
+        ++count;
+        f(nf + e->final, d, s);
     }
     return count;
 }
