@@ -23,8 +23,9 @@
 // light also reaches it through two or more refractions: a beam in one dense medium meets a face
 // of another and is refracted again, still as a parallel beam (the faces are flat). Every such
 // chain of up to maxOrder() refractions, entering from the air only at its first face, is a
-// BeamLink with its parent; the chains that end in this medium are tested one by one (after a
-// bounding-box test) at every query, after the grid's facets.
+// BeamLink with its parent; the chains that end in this medium are listed in a plan-view grid of
+// their beams' boxes and tested, after the grid's facets, by box, by a quick test along the beam's
+// mean direction (the lit part of its last face), and exactly.
 #include <array>
 #include <cstdint>
 #include <utility>
