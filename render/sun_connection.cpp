@@ -261,8 +261,12 @@ SunBeam SunConnection::along(const Point3& p, const Normal3& ng, const Vec3& dir
         // to the horizontal than kMinSlope), the light is not covered (SunChain): none.
         Vec3 out;
         double w = 0;
-        SunBeam b = beamAlong(p, ng, dir, medium, -1, 1, &out, &w);
+        int refractions = 0;
+        SunBeam b = beamAlong(p, ng, dir, medium, -1, 1, &out, &w, &refractions);
         if (!b.valid) return b;
+        // A single refraction flatter than the grid indexes is left to sampling (SunChain), even
+        // where other beams contain p for the same disc direction.
+        if (refractions == 1 && dir.z < FacetBeams::kMinSlope) return none();
         double total = 0;
         fb->forEachContaining(p, out, [&](int f, const Vec3&, double) { total += fb->weight(f, out); });
         if (!(total > 0)) return none();
@@ -287,7 +291,7 @@ int SunConnection::firstSurface(Ray r, int m, SurfaceHit* h, Spec* atten) const 
 }
 
 SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int beam,
-                                 double pick, Vec3* outAir, double* weight) const {
+                                 double pick, Vec3* outAir, double* weight, int* refractions) const {
     const FacetBeams& fb = *beamsInto(medium);
     std::array<BeamFace, FacetBeams::kMaxChainOrder> faces;
     const int nFaces = beam >= 0 ? fb.faces(beam, &faces) : 0;
@@ -331,6 +335,7 @@ SunBeam SunConnection::beamAlong(const Point3& p, const Normal3& ng, const Vec3&
         SurfaceHit above;
         Spec unused;
         if (firstSurface(spawnRay(h.p, h.ng, out), farM, &above, &unused) != 0) return none();
+        if (refractions) *refractions = k + 1;
         break;
     }
     if (outAir) *outAir = out;

@@ -246,9 +246,10 @@ private:
     // direction then leaves toward the disc point it was made for); with -1 the direction must
     // leave inside the disc. `pick` is the probability with which the estimate chose this beam
     // among those that contain p for that disc direction (the density is pick / solid angle).
-    // *weight: the beam's weight as FacetBeams::weight computes it, from the faces actually crossed.
+    // *weight: the beam's weight as FacetBeams::weight computes it, from the faces actually crossed;
+    // *refractions: their number.
     SunBeam beamAlong(const Point3& p, const Normal3& ng, const Vec3& dir, int medium, int beam, double pick,
-                      Vec3* outAir = nullptr, double* weight = nullptr) const;
+                      Vec3* outAir = nullptr, double* weight = nullptr, int* refractions = nullptr) const;
     SunBeam beamSample(const Point3& p, const Normal3& ng, const Vec3& facing, int medium, const Vec3& ws,
                        double uPick) const;
     // Straight along `ray` through periodic walls only: 1 and the first other surface (*h, and the
