@@ -78,6 +78,12 @@ FacetBeams::FacetBeams(const Scene& scene, int medium, const std::vector<double>
     if (objects_ && maxOrder > 1) buildChains(scene, medium, index, skyMedia, sunDir, halfAngle, maxOrder);
 }
 
+int FacetBeams::chainOf(int j, std::array<int, kMaxChainOrder>* links) const {
+    int n = 0;
+    for (int l = j; l >= 0; l = links_[static_cast<size_t>(l)].parent) (*links)[static_cast<size_t>(n++)] = l;
+    return n;
+}
+
 int FacetBeams::faces(int i, std::array<BeamFace, kMaxChainOrder>* out) const {
     const int nf = static_cast<int>(facets_.size());
     if (i < nf) {
@@ -85,10 +91,11 @@ int FacetBeams::faces(int i, std::array<BeamFace, kMaxChainOrder>* out) const {
         (*out)[0] = {f.mesh, f.instance, f.face};
         return 1;
     }
-    int n = 0;
-    for (int l = finals_[static_cast<size_t>(i - nf)]; l >= 0; l = links_[static_cast<size_t>(l)].parent) {
-        const BeamLink& k = links_[static_cast<size_t>(l)];
-        (*out)[static_cast<size_t>(n++)] = {k.mesh, k.instance, k.face};
+    std::array<int, kMaxChainOrder> chain{};
+    const int n = chainOf(finals_[static_cast<size_t>(i - nf)], &chain);
+    for (int k = 0; k < n; ++k) {
+        const BeamLink& l = links_[static_cast<size_t>(chain[static_cast<size_t>(k)])];
+        (*out)[static_cast<size_t>(k)] = {l.mesh, l.instance, l.face};
     }
     return n;
 }
@@ -111,12 +118,11 @@ bool inTriangle(const Point3& q, const Point3& a, const Point3& b, const Point3&
 }  // namespace
 
 bool FacetBeams::chainDirections(int j, const Vec3& ws, std::array<Vec3, kMaxChainOrder>* d) const {
-    std::array<int, kMaxChainOrder> idx{};
-    int n = 0;
-    for (int l = j; l >= 0; l = links_[static_cast<size_t>(l)].parent) idx[static_cast<size_t>(n++)] = l;
+    std::array<int, kMaxChainOrder> chain{};
+    const int n = chainOf(j, &chain);
     Vec3 t = -ws;
     for (int i = n - 1, o = 0; i >= 0; --i, ++o) {
-        const BeamLink& L = links_[static_cast<size_t>(idx[static_cast<size_t>(i)])];
+        const BeamLink& L = links_[static_cast<size_t>(chain[static_cast<size_t>(i)])];
         if (!crossFace(t, L.nFrom, L.eta, &t)) return false;
         (*d)[static_cast<size_t>(o)] = t;
     }
@@ -124,17 +130,24 @@ bool FacetBeams::chainDirections(int j, const Vec3& ws, std::array<Vec3, kMaxCha
 }
 
 double FacetBeams::weight(int i, const Vec3& ws) const {
+    // The faces beam i crosses, first face first: the facet, or the chain's links from its root.
     const int nf = static_cast<int>(facets_.size());
-    std::array<int, kMaxChainOrder> idx{};
-    int n = 0;
-    if (i >= nf)
-        for (int l = finals_[static_cast<size_t>(i - nf)]; l >= 0; l = links_[static_cast<size_t>(l)].parent)
-            idx[static_cast<size_t>(n++)] = l;
+    std::array<std::pair<Normal3, double>, kMaxChainOrder> faces;  // normal on the incoming side, eta
+    int n = 1;
+    if (i < nf) {
+        faces[0] = {facets_[static_cast<size_t>(i)].nAir, eta_};
+    } else {
+        std::array<int, kMaxChainOrder> chain{};
+        n = chainOf(finals_[static_cast<size_t>(i - nf)], &chain);
+        for (int k = 0; k < n; ++k) {
+            const BeamLink& l = links_[static_cast<size_t>(chain[static_cast<size_t>(n - 1 - k)])];
+            faces[static_cast<size_t>(k)] = {l.nFrom, l.eta};
+        }
+    }
     double w = 1;
     Vec3 t = -ws;
-    for (int k = i < nf ? 0 : n - 1; k >= 0; --k) {
-        const Normal3 nFrom = i < nf ? facets_[static_cast<size_t>(i)].nAir : links_[static_cast<size_t>(idx[static_cast<size_t>(k)])].nFrom;
-        const double eta = i < nf ? eta_ : links_[static_cast<size_t>(idx[static_cast<size_t>(k)])].eta;
+    for (int k = 0; k < n; ++k) {
+        const auto& [nFrom, eta] = faces[static_cast<size_t>(k)];
         const double cosI = -dot(t, nFrom);
         if (!crossFace(t, nFrom, eta, &t)) return 0;
         const double cosT = -dot(t, nFrom);
@@ -498,12 +511,7 @@ void FacetBeams::buildChainGrid(const ir::Domain& dom) {
 }
 
 bool FacetBeams::refracted(int i, const Vec3& ws, Vec3* d) const {
-    const BeamFacet& f = facets_[static_cast<size_t>(i)];
-    if (dot(ws, f.nAir) <= 0) return false;
-    Vec3 wt;
-    if (!refract(ws, f.nAir, eta_, &wt)) return false;  // (never, into a denser medium)
-    *d = normalize(wt);
-    return d->z < -kMinSlope;
+    return crossFace(-ws, facets_[static_cast<size_t>(i)].nAir, eta_, d) && d->z < -kMinSlope;
 }
 
 bool FacetBeams::containsImage(const BeamFacet& f, const Point3& p, const Vec3& d, const Vec3& S, double* s) const {

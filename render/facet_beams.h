@@ -134,6 +134,8 @@ private:
     static bool nearBeam(const BeamLink& l, const Point3& p);
     // Does chain link j's beam for ws contain p (unwrapped)? Sets *d and *s as forEachContaining.
     bool chainContains(int j, const Point3& p, const Vec3& ws, Vec3* d, double* s) const;
+    // Link j and its ancestors, j first, root last; returns their number.
+    int chainOf(int j, std::array<int, kMaxChainOrder>* links) const;
     // The travel directions of light from ws along link j's chain, first face first ([0, order)).
     bool chainDirections(int j, const Vec3& ws, std::array<Vec3, kMaxChainOrder>* d) const;
     void buildChains(const Scene& scene, int medium, const std::vector<double>& index, const std::vector<bool>& sky,
