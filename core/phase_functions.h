@@ -181,9 +181,10 @@ public:
     double tableNormalization() const { return tableNormalization_; }
     // The input interpolant (not renormalised), sr^-1, at psi in degrees.
     double tableValue(double psiDeg) const;
-    // Internal nodes (t ascending, values normalised), for tests.
+    // Internal nodes (t ascending, values normalised): between two nodes the density is linear in t.
     const std::vector<double>& nodesOneMinusCos() const { return t_; }
     const std::vector<double>& nodeValues() const { return p_; }
+    size_t segmentOfT(double t) const;    // j with t_[j] <= t < t_[j + 1], t in [t_[0], 2)
 
 private:
     std::vector<double> psiDeg_, value_;  // the input table
@@ -197,7 +198,6 @@ private:
     static constexpr int kLookupBins = 2048;
     std::vector<uint32_t> tLookup_, cdfLookup_;
     void buildLookups();                  // from t_ and cdf_ (the constructor)
-    size_t segmentOfT(double t) const;    // j with t_[j] <= t < t_[j + 1], t in [t_[0], 2)
     size_t segmentOfCdf(double q) const;  // j with cdf_[j] <= q < cdf_[j + 1] (clamped to the last)
     double tableNormalization_ = 1, meanCosine_ = 0;
     std::string name_;
@@ -251,6 +251,7 @@ public:
     int componentCount() const { return count_; }
     double componentWeight(int i) const { return weight_[static_cast<size_t>(i)]; }
     PhaseFunction component(int i) const;
+    const auto& part(int i) const { return parts_[static_cast<size_t>(i)]; }  // the component itself
 
     using Component = std::variant<IsotropicPhase, HenyeyGreenstein, RayleighLikePhase, FournierForand,
                                    std::shared_ptr<const TabulatedPhase>>;

@@ -205,6 +205,16 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const double inv = 1.0 / (kPi * rV_ * rV_);
     const bool eff = effectiveExtinction(medium);
     const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
+    // [layer * bands + band]: 1 / (1 - f), the phase function's share outside the cone (0 where
+    // all of it is inside).
+    std::vector<double> outsideCone;
+    if (eff)
+        for (const MediumLayer& lay : md.layers())
+            for (int b = 0; b < group_.count; ++b) {
+                const int k = group_.begin + b;
+                const double keep = lay.b[k] > 0 ? (lay.cEff[k] - lay.a[k]) / lay.b[k] : 1.0;  // 1 - f
+                outsideCone.push_back(keep > 0 ? 1.0 / keep : 0.0);
+            }
     const Vec3 toEye = -ray.d;
     // The distance from the disc's centre at t to a boundary plane, within the disc, grows as
     // k t (start) or k (tMax - t) (end), k = |cos| / sin of the ray's angle to the plane's normal;
@@ -232,27 +242,21 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
         const Point3 hi{std::max(a.x, b.x) + rV_, std::max(a.y, b.y) + rV_, 0};
         forEachPeriodicImage(lo, hi, [&](const Vec3& shift) {
         vm.forEachNearSegment(ray.o + shift, ray.d, t0, t1, rV_, [&](size_t i, double t) {
-            const Point3 x = vm.position(i);
             // A layer boundary cuts the disc like a surface: only photons of the layer the ray is in
             // at t count, over the share of the disc on that layer's side.
             const double zc = ray.at(t).z;
-            const int li = layered ? md.layerAt(x.z) : 0;
+            const int li = layered ? md.layerAt(vm.position(i).z) : 0;
             const int lc = !layered ? 0 : l0 == l1 ? l0 : md.layerAt(zc);
             if (li != lc) return;
-            Spec p = md.phase(li, group_, vm.direction(i), toEye);
-            if (eff) {
-                // Effective scattering: the map holds only events outside the 0.01 sr forward cone
-                // (at the rate b (1 - f)); the phase function is the part outside the cone, over
-                // 1 - f. An eye direction inside the photon's cone is unscattered light, carried
-                // by the transmittance with a + b (1 - f).
-                if (dot(vm.direction(i), toEye) > cosCone) return;
-                const MediumLayer& lay = md.layers()[li];
-                for (int b = 0; b < group_.count; ++b) {
-                    const int k = group_.begin + b;
-                    const double keep = lay.b[k] > 0 ? (lay.cEff[k] - lay.a[k]) / lay.b[k] : 1.0;  // 1 - f
-                    p[b] = keep > 0 ? p[b] / keep : 0.0;
-                }
-            }
+            const Vec3 dir = vm.direction(i);
+            // Effective scattering: the map holds only events outside the 0.01 sr forward cone (at
+            // the rate b (1 - f)); the phase function is the part outside the cone, over 1 - f. An
+            // eye direction inside the photon's cone is unscattered light, carried by the
+            // transmittance with a + b (1 - f).
+            if (eff && dot(dir, toEye) > cosCone) return;
+            Spec p = md.phase(li, group_, dir, toEye);
+            if (eff)
+                for (int b = 0; b < group_.count; ++b) p[b] *= outsideCone[static_cast<size_t>(li) * group_.count + b];
             Spec T(group_.count);
             if (l0 == l1) {
                 for (int b = 0; b < group_.count; ++b)

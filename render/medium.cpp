@@ -79,6 +79,7 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
             if (d.b[k] > 0)
                 for (size_t i = 0; i < bi.size(); ++i) d.weights[k][i] = bi[i][k] / d.b[k];
         }
+        d.combined = LayerPhase(d.phases, d.weights);
         layers_.push_back(std::move(d));
     }
 }
@@ -194,18 +195,58 @@ FreeFlight Medium::sampleFreeFlight(const Ray& r, double tMax, BandGroup g, doub
     return ff;
 }
 
-Spec Medium::phase(int layer, BandGroup g, const Vec3& in, const Vec3& out) const {
-    const MediumLayer& l = layers_[layer];
-    Spec p(g.count, 0.0);
-    // 1 - cos from the chord; a tiny floor keeps an exactly forward connection finite (a measure-
-    // zero event with the sampled solar disc).
-    const double t = std::max(0.5 * lengthSquared(out - in), 1e-18);
-    if (l.phases.size() == 1) return Spec(g.count, l.phases[0].evalOneMinusCos(t));
-    for (size_t i = 0; i < l.phases.size(); ++i) {
-        const double pi = l.phases[i].evalOneMinusCos(t);
-        for (int k = 0; k < g.count; ++k) p[k] += l.weights[g.begin + k][i] * pi;
+LayerPhase::LayerPhase(const std::vector<PhaseFunction>& phases, const std::vector<std::vector<double>>& weights)
+    : bands_(static_cast<int>(weights.size())) {
+    const size_t nb = weights.size();
+    quadratic_.assign(3 * nb, 0.0);
+    for (size_t i = 0; i < phases.size(); ++i)
+        for (int c = 0; c < phases[i].componentCount(); ++c) {
+            std::vector<double> w(nb);
+            for (size_t k = 0; k < nb; ++k) w[k] = weights[k][i] * phases[i].componentWeight(c);
+            const PhaseFunction::Component& part = phases[i].part(c);
+            const auto* table = std::get_if<std::shared_ptr<const TabulatedPhase>>(&part);
+            if (table && (!table_ || *table == table_)) {
+                table_ = *table;
+                tableWeight_.resize(nb, 0.0);
+                for (size_t k = 0; k < nb; ++k) tableWeight_[k] += w[k];
+            } else if (std::holds_alternative<IsotropicPhase>(part)) {
+                for (size_t k = 0; k < nb; ++k) quadratic_[3 * k] += w[k] * 0.25 / kPi;
+            } else if (const auto* r = std::get_if<RayleighLikePhase>(&part)) {
+                // (1 + k (1 - t)^2) / (4 pi (1 + k / 3)) = C (1 + k) - 2 C k t + C k t^2
+                const double C = 0.25 / kPi / (1.0 + r->k / 3.0);
+                for (size_t k = 0; k < nb; ++k) {
+                    quadratic_[3 * k] += w[k] * C * (1.0 + r->k);
+                    quadratic_[3 * k + 1] -= w[k] * 2.0 * C * r->k;
+                    quadratic_[3 * k + 2] += w[k] * C * r->k;
+                }
+            } else {
+                others_.push_back({phases[i].component(c), std::move(w)});
+            }
+        }
+    if (!table_) return;
+    node_ = table_->nodesOneMinusCos();
+    const std::vector<double>& p = table_->nodeValues();
+    value_.resize(node_.size() * nb);
+    slope_.resize(node_.size() * nb, 0.0);
+    for (size_t j = 0; j < node_.size(); ++j)
+        for (size_t k = 0; k < nb; ++k) {
+            value_[j * nb + k] = tableWeight_[k] * p[j];
+            if (j + 1 < node_.size()) slope_[j * nb + k] = tableWeight_[k] * (p[j + 1] - p[j]) / (node_[j + 1] - node_[j]);
+        }
+    // The last node is t = 2: the search stops there at the latest (t < 2 is evaluated here).
+    node_.back() = ir::kInfinity;
+    lookup_.resize(kBins);
+    size_t j = 0;
+    for (size_t b = 0; b < kBins; ++b) {
+        const double u = static_cast<double>(b) / kBins, t = 2.0 * u * u;  // the bin's start
+        while (j + 2 < node_.size() && t >= node_[j + 1]) ++j;
+        lookup_[b] = static_cast<uint32_t>(j);
     }
-    return p;
+}
+
+void LayerPhase::evalOutsideTable(double t, int begin, int count, double* out) const {
+    const double v = table_ ? table_->evalOneMinusCos(t) : 0.0;
+    for (int k = 0; k < count; ++k) out[k] = table_ ? tableWeight_[static_cast<size_t>(begin + k)] * v : 0.0;
 }
 
 Vec3 Medium::samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& rng, Spec* weight) const {

@@ -15,6 +15,10 @@
 // drawn from the band chosen uniformly at random, so its density is the band average
 // pdf(t) = (1/n) sum_b c_b(t) T_b(t); each band's weight T_b(t) b_b(t) / pdf(t) is exact. When all
 // bands share c the weights reduce to the single-scattering albedo b/c.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +39,62 @@ struct BandGroup {
 inline constexpr int kMaxScatterers = 16;  // per layer
 
 // One layer on the render bands.
+// A layer's phase functions combined for every render band, evaluated for a band group in one
+// pass (volume photon-map queries evaluate it for every photon they gather). The value is the
+// b-weighted sum of the components, as Medium::phase defines it, regrouped:
+// - the tabulated components that share one table (Petzold's particles: most natural waters) are
+//   summed per band into one function linear in t = 1 - cos between the table's nodes, whose
+//   segment is found once, through a lookup of its own (kBins bins uniform in sin(psi / 2), each
+//   holding the first segment it meets: a segment search is a step or two);
+// - the isotropic and Rayleigh-like components are polynomials in t, summed per band into one
+//   quadratic;
+// - any other (Henyey-Greenstein, Fournier-Forand, another table) is evaluated once and weighted
+//   per band.
+class LayerPhase {
+public:
+    LayerPhase() = default;
+    // From the scatterers' phase functions and weights [band][scatterer].
+    LayerPhase(const std::vector<PhaseFunction>& phases, const std::vector<std::vector<double>>& weights);
+    // p for the bands [begin, begin + count) at t = 1 - cos (> 0) into out[0, count).
+    void eval(double t, int begin, int count, double* out) const {
+        const size_t nb = static_cast<size_t>(bands_), b0 = static_cast<size_t>(begin);
+        const double* q = &quadratic_[3 * b0];
+        if (table_ && t >= node_.front() && t < 2.0) {
+            size_t j = lookup_[std::min(static_cast<size_t>(std::sqrt(0.5 * t) * kBins), size_t{kBins - 1})];
+            while (t >= node_[j + 1]) ++j;
+            while (t < node_[j]) --j;  // a bin index rounded up past a node (t >= node_[0] ends it)
+            const double dt = t - node_[j];
+            const double* v = &value_[j * nb + b0];
+            const double* s = &slope_[j * nb + b0];
+            for (int k = 0; k < count; ++k) out[k] = v[k] + s[k] * dt + q[3 * k] + t * (q[3 * k + 1] + t * q[3 * k + 2]);
+        } else {
+            evalOutsideTable(t, begin, count, out);
+            for (int k = 0; k < count; ++k) out[k] += q[3 * k] + t * (q[3 * k + 1] + t * q[3 * k + 2]);
+        }
+        for (const Part& part : others_) {
+            const double v = part.f.evalOneMinusCos(t);
+            for (int k = 0; k < count; ++k) out[k] += part.weight[b0 + static_cast<size_t>(k)] * v;
+        }
+    }
+
+private:
+    static constexpr size_t kBins = 4096;
+    // The table's part where its nodes do not reach: the forward power law, and t >= 2.
+    void evalOutsideTable(double t, int begin, int count, double* out) const;
+
+    int bands_ = 0;
+    std::shared_ptr<const TabulatedPhase> table_;  // null: no tabulated component
+    std::vector<double> tableWeight_;              // [band]: the table's total weight
+    std::vector<double> node_, value_, slope_;     // t_j (and +inf last); [j * bands + band]: the weighted table at t_j, d/dt
+    std::vector<uint32_t> lookup_;                 // [bin]: the segment holding the bin's start
+    std::vector<double> quadratic_;                // [3 band + i]: the polynomial parts' t^i coefficient
+    struct Part {
+        PhaseFunction f;              // one component
+        std::vector<double> weight;   // [band]
+    };
+    std::vector<Part> others_;
+};
+
 struct MediumLayer {
     double zTop = ir::kInfinity, zBottom = -ir::kInfinity;
     std::vector<double> a, b, c;                 // per render band, m^-1
@@ -42,6 +102,7 @@ struct MediumLayer {
                                                  // forward cone (DIRSIG's effective scattering coefficient)
     std::vector<PhaseFunction> phases;           // one per scatterer
     std::vector<std::vector<double>> weights;    // [band][scatterer] = b_i / b (b > 0), else 1/n
+    LayerPhase combined;                         // phases and weights, for Medium::phase
 };
 
 // Result of free-flight sampling along [0, tMax).
@@ -90,7 +151,14 @@ public:
     // Phase function of `layer` for the bands of g, for light travelling along `in` scattered into
     // `out` (unit vectors; sr^-1). Evaluated through 1 - cos = |out - in|^2 / 2, which stays
     // accurate near the forward peak of Petzold and Fournier–Forand (infinite at exactly 0).
-    Spec phase(int layer, BandGroup g, const Vec3& in, const Vec3& out) const;
+    Spec phase(int layer, BandGroup g, const Vec3& in, const Vec3& out) const {
+        // 1 - cos from the chord; a tiny floor keeps an exactly forward connection finite (a
+        // measure-zero event with the sampled solar disc).
+        const double t = std::max(0.5 * lengthSquared(out - in), 1e-18);
+        Spec p(g.count);
+        layers_[static_cast<size_t>(layer)].combined.eval(t, g.begin, g.count, p.v.data());
+        return p;
+    }
     // Samples a new propagation direction after scattering of a ray travelling along `dir`; weight
     // receives p_b / pdf per band (1 for a single scatterer).
     Vec3 samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& rng, Spec* weight) const;

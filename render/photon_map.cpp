@@ -36,7 +36,7 @@ uint16_t floatToHalf(float f) {
     return static_cast<uint16_t>(sign | h);
 }
 
-float halfToFloat(uint16_t h) {
+float halfToFloatSlow(uint16_t h) {
     const uint32_t sign = static_cast<uint32_t>(h & 0x8000u) << 16;
     const uint32_t exp = (h >> 10) & 0x1fu, mant = h & 0x3ffu;
     uint32_t x;
@@ -67,7 +67,6 @@ double signNotZero(double v) { return v >= 0 ? 1.0 : -1.0; }
 uint32_t quantise(double v) {  // [-1, 1] -> 16 bits, to nearest (the argument is >= 0: no lround call)
     return static_cast<uint32_t>((std::clamp(v, -1.0, 1.0) * 0.5 + 0.5) * 65535.0 + 0.5);
 }
-double dequantise(uint32_t q) { return static_cast<double>(q) * (2.0 / 65535.0) - 1.0; }  // a product, not a division
 }  // namespace
 
 uint32_t encodeOctahedral(const Vec3& v) {
@@ -79,17 +78,6 @@ uint32_t encodeOctahedral(const Vec3& v) {
         py = oy;
     }
     return quantise(px) | (quantise(py) << 16);
-}
-
-Vec3 decodeOctahedral(uint32_t e) {
-    const double px = dequantise(e & 0xffffu), py = dequantise(e >> 16);
-    Vec3 v{px, py, 1 - std::abs(px) - std::abs(py)};
-    if (v.z < 0) {
-        const double ox = (1 - std::abs(v.y)) * signNotZero(v.x), oy = (1 - std::abs(v.x)) * signNotZero(v.y);
-        v.x = ox;
-        v.y = oy;
-    }
-    return v * (1.0 / std::sqrt(lengthSquared(v)));  // one division, not three
 }
 
 void PhotonMap::add(const Point3& p, const Vec3& dir, const Vec3& normal, const Spec& power) {

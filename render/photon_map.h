@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "core/bbox.h"
@@ -35,10 +36,30 @@ namespace littoral::render {
 
 // IEEE binary16 conversions (round to nearest even; overflow to infinity).
 uint16_t floatToHalf(float f);
-float halfToFloat(uint16_t h);
+float halfToFloatSlow(uint16_t h);  // every binary16 value (zero, subnormal, inf, NaN included)
+// Inline, as density estimates decode every photon they gather: normal numbers directly.
+inline float halfToFloat(uint16_t h) {
+    const uint32_t exp = (h >> 10) & 0x1fu;
+    if (exp == 0 || exp == 31) return halfToFloatSlow(h);
+    const uint32_t x = (static_cast<uint32_t>(h & 0x8000u) << 16) | ((exp + 127 - 15) << 23) | ((h & 0x3ffu) << 13);
+    float f;
+    std::memcpy(&f, &x, 4);
+    return f;
+}
 // Octahedral encoding of a unit vector in 32 bits (Meyer et al. 2010): worst error ~1e-4 rad.
 uint32_t encodeOctahedral(const Vec3& v);
-Vec3 decodeOctahedral(uint32_t e);
+// Inline, like halfToFloat: each 16-bit half maps to [-1, 1] by a product (not a division).
+inline Vec3 decodeOctahedral(uint32_t e) {
+    const double px = static_cast<double>(e & 0xffffu) * (2.0 / 65535.0) - 1.0;
+    const double py = static_cast<double>(e >> 16) * (2.0 / 65535.0) - 1.0;
+    Vec3 v{px, py, 1 - std::abs(px) - std::abs(py)};
+    if (v.z < 0) {
+        const double ox = (1 - std::abs(v.y)) * (v.x >= 0 ? 1.0 : -1.0), oy = (1 - std::abs(v.x)) * (v.y >= 0 ? 1.0 : -1.0);
+        v.x = ox;
+        v.y = oy;
+    }
+    return v * (1.0 / std::sqrt(lengthSquared(v)));  // one division, not three
+}
 
 class PhotonMap {
 public:
@@ -143,13 +164,14 @@ void PhotonMap::forEachBucketInBox(const Point3& lo, const Point3& hi, Keep&& ke
         z0 = std::max(z0, cellLo_[2]), z1 = std::min(z1, cellHi_[2]);
         if (x0 > x1 || y0 > y1 || z0 > z1) return;
     }
-    // Distinct buckets only (two cells may share one).
-    uint64_t local[64];
+    // Distinct buckets only (two cells may share one). A segment query of a march step spans some
+    // 8 x 8 x 8 cells: those fit the stack, and only a longer box allocates.
+    uint64_t local[1024];
     std::vector<uint64_t> many;
     size_t n = 0;
     const uint64_t cells = static_cast<uint64_t>(x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1);
     uint64_t* buf = local;
-    if (cells > 64) {
+    if (cells > 1024) {
         many.resize(cells);
         buf = many.data();
     }

@@ -102,6 +102,43 @@ TEST(PathEstimator, WhiteFurnaceConservesRadiance) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// A layer's combined phase function (LayerPhase, what Medium::phase and the volume photon-map
+// queries evaluate) equals the b-weighted sum of its scatterers' own phase functions, evaluated one
+// by one, in every band: Petzold's table (twice: two scatterers share it), a mixture holding the
+// same table and an isotropic part, molecular water, Henyey-Greenstein and Fournier-Forand, over t
+// = 1 - cos from the table's forward power law (below its first node) to straight back, node
+// values included. The combination only regroups the same linear pieces: 1e-12 relative.
+TEST(Media, CombinedLayerPhaseEqualsTheWeightedSumOfItsScatterers) {
+    const std::vector<PhaseFunction> phases = {
+        PhaseFunction::petzold(), PhaseFunction::molecularWater(), PhaseFunction::henyeyGreenstein(0.9),
+        PhaseFunction::mixture({{0.7, PhaseFunction::petzold()}, {0.3, PhaseFunction::isotropic()}}),
+        PhaseFunction::fournierForand(0.012), PhaseFunction::petzold()};
+    // [band][scatterer]: each band's weights sum to 1; the bands differ.
+    const std::vector<std::vector<double>> w = {{0.3, 0.1, 0.2, 0.15, 0.15, 0.1},
+                                                {0.05, 0.5, 0.1, 0.05, 0.25, 0.05},
+                                                {0.6, 0.0, 0.1, 0.1, 0.0, 0.2}};
+    const LayerPhase combined(phases, w);
+    std::vector<double> ts;
+    for (double e = -12; e <= 0.30103; e += 0.01) ts.push_back(std::min(2.0, std::pow(10.0, e)));
+    ts.push_back(2.0);
+    std::shared_ptr<const TabulatedPhase> table = *std::get_if<std::shared_ptr<const TabulatedPhase>>(&phases[0].part(0));
+    for (size_t j = 0; j < table->nodesOneMinusCos().size(); j += 7) ts.push_back(table->nodesOneMinusCos()[j]);
+    int checked = 0;
+    for (double t : ts)
+        for (int begin = 0; begin < 3; ++begin)
+            for (int count = 1; begin + count <= 3; ++count) {
+                double out[3];
+                combined.eval(t, begin, count, out);
+                for (int k = 0; k < count; ++k) {
+                    double expected = 0;
+                    for (size_t i = 0; i < phases.size(); ++i) expected += w[begin + k][i] * phases[i].evalOneMinusCos(t);
+                    ASSERT_NEAR(out[k], expected, 1e-12 * expected) << "t " << t << " band " << begin + k;
+                    ++checked;
+                }
+            }
+    EXPECT_GT(checked, 5000);
+}
+
 // Beer–Lambert per band, through two layers. Purely absorbing water with a(lambda) linear in
 // lambda, so each band's mean is a at its centre (0.05, 0.25, 0.45 m^-1 in the top 2 m, twice that
 // below), a sun at 40 deg zenith with a tiny disc and a black sky: the probe at 3 m depth sees
