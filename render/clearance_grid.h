@@ -19,6 +19,13 @@
 
 #include "core/bbox.h"
 
+// The grid's size (about this many cells). The rendered-IR fuzzer (fuzz/CMakeLists.txt) builds the
+// renderer with 4096: its scenes are tiny, and building 2^18 cells under the sanitizers took a
+// fifth of each execution.
+#ifndef LITTORAL_CLEARANCE_CELLS
+#define LITTORAL_CLEARANCE_CELLS (int64_t{1} << 18)
+#endif
+
 namespace littoral::render {
 
 class ClearanceGrid {
@@ -28,7 +35,7 @@ public:
     ClearanceGrid() = default;
     // Covers `bounds` (the scene's, padded slightly) with about targetCells cells; then calls
     // forEachTriangle(mark), where mark(a, b, c) is to be called for every world-space triangle.
-    template <class F> void build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells = int64_t{1} << 18);
+    template <class F> void build(const BBox3& bounds, F&& forEachTriangle, int64_t targetCells = LITTORAL_CLEARANCE_CELLS);
 
     // True only if no triangle can meet the closed segment [a, b]: every cell of the box of cells
     // between cell(a) and cell(b) is within Chebyshev distance d of cell(a), and within e of the
