@@ -258,23 +258,15 @@ Vec3 Medium::samplePhase(int layer, BandGroup g, const Vec3& dir, RandomStream& 
         return w;
     }
     // Mixture: pick a scatterer by its band-averaged weight, then weight each band by p_b / pdf.
+    // That pdf, sum_i (mean_k w_ki) p_i, is the mean over the group's bands of p_k = sum_i w_ki p_i.
     const Vec3 w = sampleAround(layer, g, dir, u0, u1, u2, u3);
     const double t = std::max(0.5 * lengthSquared(w - dir), 1e-18);
-    const size_t m = l.phases.size();
-    double wbar[kMaxScatterers], pi[kMaxScatterers];
-    averageWeights(l, g, wbar);
+    *weight = Spec(g.count);
+    l.combined.eval(t, g.begin, g.count, weight->v.data());
     double pdf = 0;
-    for (size_t i = 0; i < m; ++i) {
-        pi[i] = l.phases[i].evalOneMinusCos(t);
-        pdf += wbar[i] * pi[i];
-    }
-    *weight = Spec(g.count, 0.0);
-    if (pdf > 0)
-        for (int k = 0; k < g.count; ++k) {
-            double pb = 0;
-            for (size_t i = 0; i < m; ++i) pb += l.weights[g.begin + k][i] * pi[i];
-            (*weight)[k] = pb / pdf;
-        }
+    for (int k = 0; k < g.count; ++k) pdf += (*weight)[k];
+    pdf /= g.count;
+    for (int k = 0; k < g.count; ++k) (*weight)[k] = pdf > 0 ? (*weight)[k] / pdf : 0.0;
     return w;
 }
 
@@ -300,11 +292,11 @@ double Medium::pdfAround(int layer, BandGroup g, const Vec3& dir, const Vec3& wO
     const MediumLayer& l = layers_[layer];
     const double t = std::max(0.5 * lengthSquared(wOut - dir), 1e-18);
     if (l.phases.size() == 1) return l.phases[0].evalOneMinusCos(t);
-    double w[kMaxScatterers];
-    averageWeights(l, g, w);
-    double p = 0;
-    for (size_t i = 0; i < l.phases.size(); ++i) p += w[i] * l.phases[i].evalOneMinusCos(t);
-    return p;
+    double p[kMaxGroupBands];
+    l.combined.eval(t, g.begin, g.count, p);
+    double mean = 0;  // sum_i (mean_k w_ki) p_i
+    for (int k = 0; k < g.count; ++k) mean += p[k];
+    return mean / g.count;
 }
 
 double Medium::meanCosine(int layer) const {
