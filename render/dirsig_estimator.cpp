@@ -190,19 +190,6 @@ Point3 DirsigEstimator::wrapIntoDomain(Point3 p) const {
     return p;
 }
 
-// [layer * bands + band]: 1 / (1 - f), f the share of the phase function inside the 0.01 sr forward
-// cone (0 where all of it is inside): the part outside the cone, renormalised.
-std::vector<double> outsideConeFactors(const Medium& md, BandGroup g) {
-    std::vector<double> out;
-    for (const MediumLayer& lay : md.layers())
-        for (int b = 0; b < g.count; ++b) {
-            const int k = g.begin + b;
-            const double keep = lay.b[k] > 0 ? (lay.cEff[k] - lay.a[k]) / lay.b[k] : 1.0;  // 1 - f
-            out.push_back(keep > 0 ? 1.0 / keep : 0.0);
-        }
-    return out;
-}
-
 Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, const Normal3& endNormal,
                                       const Normal3& startNormal) const {
     Spec L(group_.count);
@@ -218,7 +205,6 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const double inv = 1.0 / (kPi * rV_ * rV_);
     const bool eff = effectiveExtinction(medium);
     const double cosCone = 1.0 - kEffectiveConeSr / (2.0 * kPi);
-    const std::vector<double> outsideCone = eff ? outsideConeFactors(md, group_) : std::vector<double>{};
     const Vec3 toEye = -ray.d;
     // The distance from the disc's centre at t to a boundary plane, within the disc, grows as
     // k t (start) or k (tMax - t) (end), k = |cos| / sin of the ray's angle to the plane's normal;
@@ -260,7 +246,7 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
             if (eff && dot(dir, toEye) > cosCone) return;
             Spec p = md.phase(li, group_, dir, toEye);
             if (eff)
-                for (int b = 0; b < group_.count; ++b) p[b] *= outsideCone[static_cast<size_t>(li) * group_.count + b];
+                for (int b = 0; b < group_.count; ++b) p[b] *= md.layers()[li].outsideCone[group_.begin + b];
             Spec T(group_.count);
             if (l0 == l1) {
                 for (int b = 0; b < group_.count; ++b)

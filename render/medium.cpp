@@ -29,6 +29,7 @@ Medium Medium::air(size_t bandCount) {
     l.b = l.a;
     l.c = l.a;
     l.cEff = l.a;
+    l.outsideCone.assign(bandCount, 1.0);
     m.layers_.push_back(std::move(l));
     return m;
 }
@@ -65,6 +66,7 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
         }
         d.c.resize(nb);
         d.cEff.resize(nb);
+        d.outsideCone.resize(nb);
         d.weights.assign(nb, std::vector<double>(bi.size(), bi.empty() ? 0.0 : 1.0 / bi.size()));
         for (size_t k = 0; k < nb; ++k) {
             if (!(d.a[k] >= 0))
@@ -74,6 +76,7 @@ Medium::Medium(const ir::Medium& m, const std::vector<Band>& bands, const std::s
             for (size_t i = 0; i < bi.size(); ++i)
                 if (d.b[k] > 0) fCone += bi[i][k] / d.b[k] * d.phases[i].forwardConeFraction(1.0 - 0.01 / (2.0 * kPi));
             d.cEff[k] = d.a[k] + d.b[k] * (1.0 - fCone);
+            d.outsideCone[k] = fCone < 1.0 ? 1.0 / (1.0 - fCone) : 0.0;
             attenuating_ |= d.c[k] > 0;
             scattering_ |= d.b[k] > 0;
             if (d.b[k] > 0)

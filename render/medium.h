@@ -38,7 +38,6 @@ struct BandGroup {
 
 inline constexpr int kMaxScatterers = 16;  // per layer
 
-// One layer on the render bands.
 // A layer's phase functions combined for every render band, evaluated for a band group in one
 // pass (volume photon-map queries evaluate it for every photon they gather). The value is the
 // b-weighted sum of the components, as Medium::phase defines it, regrouped:
@@ -95,11 +94,14 @@ private:
     std::vector<Part> others_;
 };
 
+// One layer on the render bands.
 struct MediumLayer {
     double zTop = ir::kInfinity, zBottom = -ir::kInfinity;
     std::vector<double> a, b, c;                 // per render band, m^-1
     std::vector<double> cEff;                    // a + b (1 - f), f = fraction scattered into the 0.01 sr
                                                  // forward cone (DIRSIG's effective scattering coefficient)
+    std::vector<double> outsideCone;             // per render band, 1 / (1 - f) (0 where f = 1, 1 where b = 0):
+                                                 // the phase function outside the cone, renormalised
     std::vector<PhaseFunction> phases;           // one per scatterer
     std::vector<std::vector<double>> weights;    // [band][scatterer] = b_i / b (b > 0), else 1/n
     LayerPhase combined;                         // phases and weights, for Medium::phase
