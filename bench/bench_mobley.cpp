@@ -30,6 +30,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "column/column_solver.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -142,14 +144,20 @@ void benchColumns(const fs::path& src) {
             }
             double t = 0;
             int passing = 0, cells = 0;
+            std::string failing;  // each failing cell: its se, and its distance from the column in se
             for (const auto& v : timedProbes(ir, irDir, &t, render::evaluateProbes)) {
                 const auto [ref, conv] = reference.at(col, v);
-                passing += std::abs(v.mean[0] - ref) <= 3 * v.stderr_[0] + conv && v.stderr_[0] <= 0.01 * v.mean[0];
+                const bool ok = std::abs(v.mean[0] - ref) <= 3 * v.stderr_[0] + conv && v.stderr_[0] <= 0.01 * v.mean[0];
+                passing += ok;
                 ++cells;
+                if (!ok)
+                    failing += fmt::format("  {} {}: se {:.2f} %, {:+.1f} se", v.probe, v.quantity,
+                                           100 * v.stderr_[0] / v.mean[0], (v.mean[0] - ref) / v.stderr_[0]);
             }
             total += t;
-            std::printf("%-34s %12lld %12.2f %14.2f %-16s %.3f\n", col.file, static_cast<long long>(photons), t, total,
-                        (std::to_string(passing) + " / " + std::to_string(cells)).c_str(), reference.solverSecs);
+            std::printf("%-34s %12lld %12.2f %14.2f %-16s %.3f%s\n", col.file, static_cast<long long>(photons), t, total,
+                        (std::to_string(passing) + " / " + std::to_string(cells)).c_str(), reference.solverSecs,
+                        failing.c_str());
             std::fflush(stdout);
             if (passing == cells) break;
         }

@@ -14,6 +14,11 @@
 // relative power where it crosses and mu the z component of its direction. Each crossing is an
 // unbiased estimate (the expected number of crossings per unit area is the plane irradiance,
 // Case & Zweifel's flux-crossing identity), so the tallies are unbiased for the scene they accept.
+// Two refinements score a crossing's expectation instead, which keeps that: every flight of
+// sampled length scores w_b T_b(t) at each plane ahead of it (up to the side walls, where it goes
+// on as a new flight), whether or not it gets there; and the upward planes' crossings by the flight
+// after a collision are shared, by the balance heuristic, between that flight (drawn from the
+// phase function) and a direction drawn at the collision toward grazing and steep upward angles.
 // Lu (the radiance travelling straight up) is a collision estimator: every collision below the
 // plane adds its scattered power into the upward direction, attenuated to the plane,
 //   Lu(z)  = Phi / (A N) [sum over collisions at z' < z of w p(d -> up) T(z', z)
@@ -46,13 +51,14 @@ std::string horizontalInvarianceProblem(const ir::SceneIR& ir);
 // What one run of the tallies traces and answers.
 struct ForwardTallyRun {
     uint64_t photons = 0;  // 0: render.probe_photons
+    int batches = 0;       // 0: render.probe_batches
     bool pilot = false;    // the pilot's own random streams (render/probes.cpp), no progress bar
     int pilotStage = 0;    // the pilot's stage (0 unsplit, 1 split by depth): streams of its own
     // The (probe index, quantity) pairs to answer; empty: every one the tallies answer.
     std::set<std::pair<int, std::string>> only;
-    // A pilot's scalar irradiance at its planes, (z, Eo): the photons are split by depth with the
-    // importance 1 / Eo (render/photon_pass.h, DepthImportance); empty (or fewer than two planes
-    // with light): no splitting.
+    // A pilot's profile (z, E), E the weakest irradiance asked at each plane (profile() below): the
+    // photons are split by depth with the importance 1 / E (render/photon_pass.h,
+    // DepthImportance); empty (or fewer than two planes with light): no splitting.
     std::vector<std::pair<double, double>> profile;
 };
 
@@ -65,8 +71,9 @@ public:
     std::vector<std::pair<int, std::string>> answered() const;
     // The value of quantity `q` of probe `index` (into ir.probes), or nullptr.
     const ProbeValue* find(int index, const std::string& q) const;
-    // The scalar irradiance Eod + Eou (band mean) at every plane traced, (z, Eo): what a pilot hands
-    // to the full run as ForwardTallyRun::profile.
+    // At every plane traced (z, E): the weakest band-mean irradiance asked there (Ed, Eu, Eod or
+    // Eou; Eod + Eou where only Lu is), what a pilot hands to the full run as
+    // ForwardTallyRun::profile.
     const std::vector<std::pair<double, double>>& profile() const { return profile_; }
 
 private:

@@ -1,5 +1,7 @@
 #include "render/medium.h"
 
+#include <bit>
+
 #include <algorithm>
 #include <cmath>
 
@@ -245,6 +247,16 @@ LayerPhase::LayerPhase(const std::vector<PhaseFunction>& phases, const std::vect
         while (j + 2 < node_.size() && t >= node_[j + 1]) ++j;
         lookup_[b] = static_cast<uint32_t>(j);
     }
+    if (!(node_.front() < kLogBelow)) return;
+    logBase_ = std::bit_cast<uint64_t>(std::max(node_.front(), 1e-12)) >> kLogShift;  // below: bin 0, scanned
+    const uint64_t last = std::bit_cast<uint64_t>(kLogBelow) >> kLogShift;
+    logLookup_.resize(static_cast<size_t>(last - logBase_ + 1));
+    j = 0;
+    for (uint64_t b = logBase_; b <= last; ++b) {
+        const double t = std::bit_cast<double>(b << kLogShift);  // the bin's start
+        while (j + 2 < node_.size() && t >= node_[j + 1]) ++j;
+        logLookup_[static_cast<size_t>(b - logBase_)] = static_cast<uint32_t>(j);
+    }
 }
 
 void LayerPhase::evalOutsideTable(double t, int begin, int count, double* out) const {
@@ -294,8 +306,7 @@ Vec3 Medium::sampleAround(int layer, BandGroup g, const Vec3& dir, double u0, do
 double Medium::pdfAround(int layer, BandGroup g, const Vec3& dir, const Vec3& wOut) const {
     const MediumLayer& l = layers_[layer];
     const double t = std::max(0.5 * lengthSquared(wOut - dir), 1e-18);
-    if (l.phases.size() == 1) return l.phases[0].evalOneMinusCos(t);
-    double p[kMaxGroupBands];
+    double p[kMaxGroupBands];  // one scatterer: p in every band
     l.combined.eval(t, g.begin, g.count, p);
     double mean = 0;  // sum_i (mean_k w_ki) p_i
     for (int k = 0; k < g.count; ++k) mean += p[k];

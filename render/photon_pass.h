@@ -60,8 +60,9 @@ namespace littoral::render {
 // fixed order, so that results stay independent of threads and ranks); and the roulette's window
 // becomes rouletteBelow / I(z). A copy is an independent continuation of the same photon, and a
 // survivor of the roulette (probability q) carries 1 / q, so every expectation is kept whatever I
-// is: the tallies stay unbiased. With I ~ 1 / Eo(z) (the pilot's scalar irradiance) the photons'
-// number stays near constant with depth, and deep planes are crossed as often as shallow ones.
+// is: the tallies stay unbiased. With I ~ 1 / E(z) (the pilot's irradiance, render/forward_tally.h)
+// the photons' number stays near constant with depth, and deep planes are crossed as often as
+// shallow ones.
 struct DepthImportance {
     std::vector<double> z, logI;  // z descending (the shallowest point first)
     bool empty() const { return z.empty(); }
@@ -148,8 +149,15 @@ public:
     // with power w per band at t = 0. `sampled`: the flight's length was drawn by free-flight
     // sampling with a hero band chosen uniformly (Medium::sampleFreeFlight), so at distance t the
     // photon's power is w_b T_b(t) / mean_i T_i(t); otherwise the medium's transmittance
-    // attenuates it deterministically, w_b T_b(t).
-    virtual void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled) = 0;
+    // attenuates it deterministically, w_b T_b(t). `from`: the collision the flight starts at (told
+    // to collision() before it; the flight's direction was drawn by Medium::samplePhase), also when
+    // the flight continues such a flight across a periodic wall; nullptr after emission, an
+    // interface or a diffuse reflection.
+    struct Scattered {
+        Vec3 dIn;       // the direction of travel before the collision
+        int layer = 0;  // the medium's layer it happened in
+    };
+    virtual void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled, const Scattered* from) = 0;
     // A collision at x in a scattering medium's `layer`, of a photon travelling along dIn, with power
     // w per band after the collision's single-scattering albedo (before the phase function turns it).
     virtual void collision(const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) {

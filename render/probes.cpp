@@ -276,10 +276,11 @@ constexpr uint64_t kProbePilotOffset = 1ull << 23;
 // One quantity (index qi) of one probe by backward paths: N samples in render.probe_batches
 // batches, drawn from the streams at streamBase.
 ProbeValue backwardValue(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe, int probeIndex,
-                         size_t qi, int N, uint64_t streamBase, const RenderOptions& opts, Progress* progress) {
+                         size_t qi, int N, uint64_t streamBase, const RenderOptions& opts, Progress* progress,
+                         int batches = 0) {
     const std::string who = fmt::format("probe '{}'", probe.name);
     const int medium = scene.mediumIndex(probe.medium, who + " medium");
-    const int B = estimators.config().probeBatches;
+    const int B = batches > 0 ? batches : estimators.config().probeBatches;
     const int perBatch = N / B;  // a remainder of fewer than B samples is not drawn
     // Work is cut into chunks of at most kChunk samples inside each batch (sumProbeChunks); the
     // chunk sums are added in a fixed order, so the result does not depend on the thread count.
@@ -342,6 +343,11 @@ bool disagree(const ProbeValue& a, const ProbeValue& b) {
     return false;
 }
 
+// The pilots' batches, whatever render.probe_batches is: their standard errors decide the method,
+// and from B batches a standard error is itself uncertain by about 1 / sqrt(2 (B - 1)) (16 % at 20
+// batches, 9 % at 64), which made close calls go the wrong way.
+constexpr int kPilotBatches = 64;
+
 // The method of every quantity the forward tallies could answer (docs/rendering.md, "Forward or
 // backward: the pilot"): a pilot of 1/16 of each method's budget, on random streams of its own,
 // predicts each method's standard error at its full budget (se^2 falls as 1/N); the smaller wins,
@@ -362,8 +368,9 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
     // The forward pilot in two stages of 1/32 each: unsplit, for the depth profile; then split by
     // depth with it, as the full run will be, for the prediction (and a better profile for the run).
     ForwardTallyRun pilotRun;
-    pilotRun.photons = std::max<uint64_t>(static_cast<uint64_t>(B), cfg.probePhotons / 32);
+    pilotRun.photons = std::max<uint64_t>(static_cast<uint64_t>(kPilotBatches), cfg.probePhotons / 32);
     pilotRun.pilot = true;
+    pilotRun.batches = kPilotBatches;
     RenderOptions quiet = opts;
     quiet.progress = false;
     pilotRun.profile = ForwardTallies(scene, estimators, quiet, pilotRun).profile();
@@ -375,11 +382,12 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
         const ir::Probe& probe = probes[static_cast<size_t>(i)];
         checkProbe(scene, cfg, probe);
         const ProbeValue& f = *pilot.find(i, q);
-        const int N = probe.samples.value_or(cfg.probeSamples), nPilot = std::max(B, N / 16);
+        const int N = probe.samples.value_or(cfg.probeSamples), nPilot = std::max(kPilotBatches, N / 16);
         const size_t qi = static_cast<size_t>(std::find(probe.quantities.begin(), probe.quantities.end(), q) -
                                               probe.quantities.begin());
         const ProbeValue b = backwardValue(scene, estimators, probe, i, qi, nPilot,
-                                           probeStreamBase(estimators) + kProbePilotOffset, quiet, nullptr);
+                                           probeStreamBase(estimators) + kProbePilotOffset, quiet, nullptr,
+                                           kPilotBatches);
         const double vf = predictedVariance(f, f, static_cast<double>(f.samples), static_cast<double>(cfg.probePhotons));
         const double vb = predictedVariance(b, f, static_cast<double>(b.samples), static_cast<double>(N));
         bool forward = vf <= vb;

@@ -96,9 +96,11 @@ TEST(Mobley1993, Problem1Albedo02BackwardPaths) {
 
 // Problem 6 also has the bottom identities Eou = 2 Eu = Ed and Lu = Eu / pi for a Lambertian
 // bottom (reference-data.md); Eou and Lu at the bottom are compared with Ed through them, within
-// 3 combined standard errors. In this low-albedo water the pilot predicts smaller errors for
-// backward paths (Eou at tau 1: 0.7 % against 2.5 % forward at 10^6 photons; Ed at tau 5: 0.36 %
-// against 1.2 %), so they answer: the choice the forward tallies' default must leave alone.
+// 3 combined standard errors. In this low-albedo water the upwelling light is mostly singly
+// scattered sunlight, which backward paths find through their sun connection: the pilot predicts
+// smaller errors for them (Eou at tau 1: 0.38 % against 0.5 % forward at 10^6 photons; Ed at tau 5:
+// 0.31 % against 0.49 %; Eou at tau 5: 0.53 % against 1.5 %), so they answer, the choice the
+// forward tallies' default must leave alone.
 TEST(Mobley1993, Problem6ShallowBottom) {
     const Cells cells = checkProblem("problem6.yaml", 6, 0.2, {{1.0, "tau1"}, {5.0, "tau5"}});
     EXPECT_EQ(cells.at("tau1").at("Eou").method, "backward");
