@@ -240,18 +240,10 @@ LayerPhase::LayerPhase(const std::vector<PhaseFunction>& phases, const std::vect
         }
     // The last node is t = 2: the search stops there at the latest (t < 2 is evaluated here).
     node_.back() = ir::kInfinity;
-    lookup_.resize(kBins);
-    size_t j = 0;
-    for (size_t b = 0; b < kBins; ++b) {
-        const double u = static_cast<double>(b) / kBins, t = 2.0 * u * u;  // the bin's start
-        while (j + 2 < node_.size() && t >= node_[j + 1]) ++j;
-        lookup_[b] = static_cast<uint32_t>(j);
-    }
-    if (!(node_.front() < kLogBelow)) return;
     logBase_ = std::bit_cast<uint64_t>(std::max(node_.front(), 1e-12)) >> kLogShift;  // below: bin 0, scanned
-    const uint64_t last = std::bit_cast<uint64_t>(kLogBelow) >> kLogShift;
+    const uint64_t last = std::bit_cast<uint64_t>(2.0) >> kLogShift;
     logLookup_.resize(static_cast<size_t>(last - logBase_ + 1));
-    j = 0;
+    size_t j = 0;
     for (uint64_t b = logBase_; b <= last; ++b) {
         const double t = std::bit_cast<double>(b << kLogShift);  // the bin's start
         while (j + 2 < node_.size() && t >= node_[j + 1]) ++j;

@@ -44,8 +44,8 @@ inline constexpr int kMaxScatterers = 16;  // per layer
 // b-weighted sum of the components, as Medium::phase defines it, regrouped:
 // - the tabulated components that share one table (Petzold's particles: most natural waters) are
 //   summed per band into one function linear in t = 1 - cos between the table's nodes, whose
-//   segment is found once, through a lookup of its own (kBins bins uniform in sin(psi / 2), each
-//   holding the first segment it meets: a segment search is a step or two);
+//   segment is found once, through a lookup of its own (bins by the top bits of t, each holding
+//   the first segment it meets: a segment search is a step or two);
 // - the isotropic and Rayleigh-like components are polynomials in t, summed per band into one
 //   quadratic;
 // - any other (Henyey-Greenstein, Fournier-Forand, another table) is evaluated once and weighted
@@ -60,8 +60,7 @@ public:
         const size_t nb = static_cast<size_t>(bands_), b0 = static_cast<size_t>(begin);
         const double* q = &quadratic_[3 * b0];
         if (table_ && t >= node_.front() && t < 2.0) {
-            size_t j = t < kLogBelow ? logLookup_[std::max(std::bit_cast<uint64_t>(t) >> kLogShift, logBase_) - logBase_]
-                                     : lookup_[std::min(static_cast<size_t>(std::sqrt(0.5 * t) * kBins), size_t{kBins - 1})];
+            size_t j = logLookup_[std::max(std::bit_cast<uint64_t>(t) >> kLogShift, logBase_) - logBase_];
             while (t >= node_[j + 1]) ++j;
             while (t < node_[j]) --j;  // a bin index rounded up past a node (t >= node_[0] ends it)
             const double dt = t - node_[j];
@@ -79,13 +78,13 @@ public:
     }
 
 private:
-    // The segment lookups. Below t = kLogBelow (60 deg) the bins are the top bits of t's
-    // representation, 2^(52 - kLogShift) = 128 per octave, nearly uniform in log t: a table refined
-    // log-log over the forward peak (Petzold: 32 nodes per 0.1 decade of angle) has a node per bin
-    // or fewer there, where most samples fall. Above, kBins bins uniform in sin(psi / 2).
-    static constexpr size_t kBins = 4096;
-    static constexpr double kLogBelow = 0.5;
-    static constexpr int kLogShift = 45;
+    // The segment lookup: bin k holds the t whose representation's top bits are k (after
+    // logBase_), 2^(52 - kLogShift) = 512 bins per octave, so nearly uniform in log t. A table
+    // refined log-log over the forward peak (Petzold: 32 nodes per 0.1 decade of angle) has a node
+    // per bin or fewer there, where most phase samples fall, and about one elsewhere. Measured
+    // against 4096 bins uniform in sin(psi / 2) (Petzold, one thread): 6.7 against 22.5 ns per
+    // value at phase-sampled angles, 9.0 against 8.9 at t uniform in [0, 2); 40 KB per table.
+    static constexpr int kLogShift = 43;
     // The table's part where its nodes do not reach: the forward power law, and t >= 2.
     void evalOutsideTable(double t, int begin, int count, double* out) const;
 
@@ -93,8 +92,7 @@ private:
     std::shared_ptr<const TabulatedPhase> table_;  // null: no tabulated component
     std::vector<double> tableWeight_;              // [band]: the table's total weight
     std::vector<double> node_, value_, slope_;     // t_j (and +inf last); [j * bands + band]: the weighted table at t_j, d/dt
-    std::vector<uint32_t> lookup_;                 // [bin]: the segment holding the bin's start
-    std::vector<uint32_t> logLookup_;              // the same for the bins below kLogBelow
+    std::vector<uint32_t> logLookup_;              // [bin]: the segment holding the bin's start
     uint64_t logBase_ = 0;                         // the first of those bins: node_[0]'s top bits (t >= 1e-12)
     std::vector<double> quadratic_;                // [3 band + i]: the polynomial parts' t^i coefficient
     struct Part {
