@@ -96,6 +96,7 @@ public:
             // walls are scored by the flight that continues from the opposite wall. An upward flight
             // from a collision shares its direction's expectation with collision()'s grazing sample.
             const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+            if (!anyAhead(medium, ray.o.z, ray.d.z)) return;
             const double mis = from && ray.d.z > 0 ? misPhase(md, from->layer, from->dIn, ray.d) : 1.0;
             expectedCrossings(ray, medium, w * mis, wallDistance(ray));
             return;
@@ -163,6 +164,17 @@ private:
         sums_[base + (dz < 0 ? kEd : kEu)] += wt;
         sums_[base + (dz < 0 ? kEod : kEou)] += wt * inv;
     }
+    // Whether a straight flight from height z0 in `medium`, going up (dz > 0) or down, reaches
+    // plane l with no face between.
+    static bool ahead(const Level& l, int medium, double z0, double dz) {
+        return l.medium == medium &&
+               (dz < 0 ? l.z < z0 && l.ceiling >= z0 - kFaceTol : l.z > z0 && l.floor <= z0 + kFaceTol);
+    }
+    bool anyAhead(int medium, double z0, double dz) const {
+        for (const Level& l : levels_)
+            if (ahead(l, medium, z0, dz)) return true;
+        return false;
+    }
     // Adds w_b T_b(t) at every plane of `medium` that a straight flight from ray.o reaches within
     // tMax with no face between.
     void expectedCrossings(const Ray& ray, int medium, const Spec& w, double tMax) {
@@ -170,8 +182,7 @@ private:
         const Medium& md = scene_.media()[static_cast<size_t>(medium)];
         for (size_t k = 0; k < levels_.size(); ++k) {
             const Level& l = levels_[k];
-            if (l.medium != medium) continue;
-            if (!(dz < 0 ? l.z < z0 && l.ceiling >= z0 - kFaceTol : l.z > z0 && l.floor <= z0 + kFaceTol)) continue;
+            if (!ahead(l, medium, z0, dz)) continue;
             const double t = (l.z - z0) / dz;
             if (t > tMax) continue;
             add(k, dz, w * md.transmittance(ray, t, g_));
@@ -190,7 +201,7 @@ private:
         return q1 / (q1 + grazingPdf(d.z));
     }
     void upwardSample(const Medium& md, const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) {
-        if (!planes_[static_cast<size_t>(medium)]) return;
+        if (!planes_[static_cast<size_t>(medium)] || !anyAhead(medium, x.z, 1.0)) return;
         const double v0 = rng_.uniform(), v1 = rng_.uniform();
         const Vec3 d = grazingDirection(v0, v1);
         const Spec p = md.phase(layer, g_, dIn, d);
