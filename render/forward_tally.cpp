@@ -25,7 +25,7 @@ namespace {
 constexpr uint64_t kForwardPassBase = 1ull << 20;
 constexpr uint64_t kForwardPilotPassBase = 1ull << 21;  // the pilot's (render/probes.cpp)
 constexpr uint64_t kPilotStageStride = 1ull << 19;      // between the pilot's two stages
-// Random streams of the tallies' own directions (CrossingTally::nextFlight), one per chunk: apart
+// Random streams of the tallies' own directions (CrossingTally::upwardSample), one per chunk: apart
 // from the photons' (render/photon_pass.cpp, 2^50 + pass).
 constexpr uint64_t kNextFlightStreams = (1ull << 50) + (1ull << 49);
 constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in chunk order)
@@ -82,33 +82,29 @@ double grazingPdf(double dz) { return dz > 0 ? 0.5 * (kGrazingA / std::max(dz, k
 class CrossingTally final : public PhotonObserver {
 public:
     CrossingTally(const Scene& scene, BandGroup g, const std::vector<Level>& levels, RandomStream rng)
-        : scene_(scene), g_(g), levels_(levels), sums_(levels.size() * kTallies, Spec(g.count)), rng_(rng),
-          planes_(scene.media().size(), false) {
-        for (const Level& l : levels) planes_[static_cast<size_t>(l.medium)] = true;
-    }
+        : scene_(scene), g_(g), levels_(levels), sums_(levels.size() * kTallies, Spec(g.count)), rng_(rng) {}
 
     void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled, const Scattered* from) override {
-        if (ray.d.z == 0 || !planes_[static_cast<size_t>(medium)]) return;
+        if (ray.d.z == 0) return;
+        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
         if (sampled) {
             // The expected crossings: a flight of sampled length reaches a plane at distance t with
             // probability mean_i T_i(t) and then carries w_b T_b(t) / mean_i T_i(t), so its expected
             // score is w_b T_b(t), whether or not this photon got there. Planes beyond the side
             // walls are scored by the flight that continues from the opposite wall. An upward flight
             // from a collision shares its direction's expectation with collision()'s grazing sample.
-            const Medium& md = scene_.media()[static_cast<size_t>(medium)];
             if (!anyAhead(medium, ray.o.z, ray.d.z)) return;
             const double mis = from && ray.d.z > 0 ? misPhase(md, from->layer, from->dIn, ray.d) : 1.0;
             expectedCrossings(ray, medium, w * mis, wallDistance(ray));
             return;
         }
+        // The flight crosses a plane if it ends beyond it. Half-open, so that a photon turning exactly
+        // on a plane is counted once.
         const double dz = ray.d.z, z0 = ray.o.z;
-        const Medium& md = scene_.media()[static_cast<size_t>(medium)];
+        const double z1 = std::isfinite(tEnd) ? z0 + tEnd * dz : (dz > 0 ? ir::kInfinity : -ir::kInfinity);
         for (size_t k = 0; k < levels_.size(); ++k) {
             const Level& l = levels_[k];
             if (l.medium != medium) continue;
-            // The flight crosses if it ends beyond the plane. Half-open, so that a photon turning
-            // exactly on a plane is counted once.
-            const double z1 = std::isfinite(tEnd) ? z0 + tEnd * dz : (dz > 0 ? ir::kInfinity : -ir::kInfinity);
             if (!(dz < 0 ? (z1 <= l.z && l.z < z0) : (z0 < l.z && l.z <= z1))) continue;
             Spec wt = w;
             if (md.attenuating()) {
@@ -196,21 +192,18 @@ private:
     // flight through its weight w p / q1 times q1 / (q1 + q2) (misPhase). Downward planes are scored
     // by the flight alone.
     double misPhase(const Medium& md, int layer, const Vec3& dIn, const Vec3& d) const {
-        const Spec p = md.phase(layer, g_, dIn, d);
-        const double q1 = bandMean(p);
+        const double q1 = md.pdfAround(layer, g_, dIn, d);
         return q1 / (q1 + grazingPdf(d.z));
     }
     void upwardSample(const Medium& md, const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) {
-        if (!planes_[static_cast<size_t>(medium)] || !anyAhead(medium, x.z, 1.0)) return;
+        if (!anyAhead(medium, x.z, 1.0)) return;
         const double v0 = rng_.uniform(), v1 = rng_.uniform();
         const Vec3 d = grazingDirection(v0, v1);
         const Spec p = md.phase(layer, g_, dIn, d);
-        expectedCrossings(Ray{x, d}, medium, w * p * (1.0 / (bandMean(p) + grazingPdf(d.z))), ir::kInfinity);
-    }
-    double bandMean(const Spec& p) const {
-        double m = 0;
-        for (int i = 0; i < g_.count; ++i) m += p[i];
-        return m / g_.count;
+        double q1 = 0;  // Medium::pdfAround, from the values at hand
+        for (int i = 0; i < g_.count; ++i) q1 += p[i];
+        q1 /= g_.count;
+        expectedCrossings(Ray{x, d}, medium, w * p * (1.0 / (q1 + grazingPdf(d.z))), ir::kInfinity);
     }
 
     // The distance along `ray` to the domain's side walls, where a periodic photon wraps and goes
@@ -231,7 +224,6 @@ private:
     std::vector<Spec> sums_;
     uint64_t cuts_ = 0;
     RandomStream rng_;
-    std::vector<bool> planes_;  // per medium: some plane in it
 };
 
 int tallyOf(const std::string& q) {

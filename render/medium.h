@@ -16,9 +16,9 @@
 // pdf(t) = (1/n) sum_b c_b(t) T_b(t); each band's weight T_b(t) b_b(t) / pdf(t) is exact. When all
 // bands share c the weights reduce to the single-scattering albedo b/c.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <bit>
 #include <memory>
 #include <string>
 #include <vector>

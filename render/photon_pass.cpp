@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -56,10 +57,10 @@ private:
         Ray ray;
         Spec w;
         int medium = 0, events = 0, specular = 0, wraps = 0;
-        // The current flight starts at a collision in the medium (or continues such a flight
-        // across a periodic wall): PhotonObserver::flight's `from`.
-        bool afterCollision = false;
-        PhotonObserver::Scattered from;
+        // The collision the current flight starts at (or continues from across a periodic wall),
+        // if any: PhotonObserver::flight's `from`.
+        std::optional<PhotonObserver::Scattered> from;
+        const PhotonObserver::Scattered* scattered() const { return from ? &*from : nullptr; }
     };
     using Pending = std::vector<State>;  // copies still to walk (splitting by depth)
 
@@ -133,8 +134,7 @@ bool PhotonTracer::turn(State& s, const Point3& x, int layer, double I, RandomSt
     const Medium& md = scene_.media()[static_cast<size_t>(s.medium)];
     Spec pw;
     const Vec3 wi = md.samplePhase(layer, g_, s.ray.d, rng, &pw);
-    s.afterCollision = true;
-    s.from = {s.ray.d, layer};
+    s.from = PhotonObserver::Scattered{s.ray.d, layer};
     const bool forward = st_.effectiveScattering && dot(wi, s.ray.d) > cosCone;
     if (!forward && st_.volumeMedium[static_cast<size_t>(s.medium)]) out.volume.add(x, s.ray.d, Vec3{0, 0, 1}, s.w);
     if (!forward) {
@@ -158,7 +158,7 @@ bool PhotonTracer::reflectDiffuse(State& s, const SurfaceHit& h, RandomStream& r
     const Frame frame = Frame::fromNormal(n);
     const double v1 = rng.uniform(), v2 = rng.uniform();
     s.ray = spawnRay(h.p, h.ng, normalize(frame.toWorld(sampleCosineHemisphere(v1, v2))));
-    s.afterCollision = false;
+    s.from.reset();
     return true;
 }
 
@@ -196,7 +196,7 @@ void PhotonTracer::walkFrom(State s, RandomStream& rng, ChunkResult& out, Photon
             const FreeFlight ff = scene_.flightToSurface(s.ray, s.medium, g_, uBand, uDist, &h, &hit);
             if (observer)
                 observer->flight(s.ray, ff.scattered ? ff.t : hit ? h.t : ir::kInfinity, s.medium, s.w, true,
-                                 s.afterCollision ? &s.from : nullptr);
+                                 s.scattered());
             s.w *= ff.weight;
             if (ff.scattered) {
                 if (!scatter(s, ff, rng, out, observer, pending)) return;
@@ -206,11 +206,11 @@ void PhotonTracer::walkFrom(State s, RandomStream& rng, ChunkResult& out, Photon
         } else if (md.attenuating()) {
             hit = scene_.geometry().intersect(s.ray, &h);
             if (!hit) return;
-            if (observer) observer->flight(s.ray, h.t, s.medium, s.w, false, s.afterCollision ? &s.from : nullptr);
+            if (observer) observer->flight(s.ray, h.t, s.medium, s.w, false, s.scattered());
             s.w *= md.transmittance(s.ray, h.t, g_);
         } else {
             hit = scene_.geometry().intersect(s.ray, &h);
-            if (observer) observer->flight(s.ray, hit ? h.t : ir::kInfinity, s.medium, s.w, false, s.afterCollision ? &s.from : nullptr);
+            if (observer) observer->flight(s.ray, hit ? h.t : ir::kInfinity, s.medium, s.w, false, s.scattered());
         }
         if (!hit) return;
         if (scene_.isPeriodicWall(h)) {
@@ -233,7 +233,7 @@ void PhotonTracer::walkFrom(State s, RandomStream& rng, ChunkResult& out, Photon
             s.w *= it.out[0].weight;
             s.medium = it.out[0].medium;
             s.ray = it.out[0].ray;
-            s.afterCollision = false;
+            s.from.reset();
             continue;
         }
         InteractionStep::requireDiffuse(bxdf);

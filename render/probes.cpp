@@ -358,18 +358,19 @@ constexpr double kForwardTrustedVariance = 0.05 * 0.05;
 // predicts each method's standard error at its full budget (se^2 falls as 1/N); the smaller wins,
 // unless a pilot cannot be trusted:
 //  - no forward photon reached the probe's plane: backward;
+//  - the forward pilot predicts more than 5 % (kForwardTrustedVariance) and the pilots agree:
+//    backward;
 //  - the two pilots disagree beyond 3 combined standard errors: forward. A crossing or collision
 //    adds a bounded weight, so the forward pilot's spread is honest; backward paths in deep or
 //    forward-peaked water are heavy-tailed, and a small pilot that has not met their rare large
 //    values reports an error far too small (measured: 0.1 % predicted, 36 % at the full budget).
-// Returns the (probe, quantity) pairs that go forward; *profile receives the pilot's scalar
-// irradiance at its planes (the full run splits its photons by depth with it).
+// Returns the (probe, quantity) pairs that go forward; *profile receives the pilot's profile at its
+// planes (ForwardTallies::profile; the full run splits its photons by depth with it).
 std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const EstimatorSet& estimators,
                                                     const RenderOptions& opts, std::vector<std::pair<double, double>>* profile) {
     const RenderConfig& cfg = estimators.config();
     std::set<std::pair<int, std::string>> chosen;
     if (cfg.estimator != ir::Estimator::Path || cfg.probePhotons == 0) return chosen;
-    const int B = cfg.probeBatches;
     // The forward pilot in two stages of 1/32 each: unsplit, for the depth profile; then split by
     // depth with it, as the full run will be, for the prediction (and a better profile for the run).
     ForwardTallyRun pilotRun;
@@ -399,10 +400,10 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
         std::string why = fmt::format("the pilot predicts a relative standard error of {:.2g} % forward, {:.2g} % backward",
                                       100 * std::sqrt(vf), 100 * std::sqrt(vb));
         if (!anyPositive(f)) forward = false, why = "no forward photon reached its plane in the pilot";
-        else if (vf > kForwardTrustedVariance && !disagree(f, b))
-            forward = false, why = "too few forward photons reach its plane for their spread to be trusted: " + why;
         else if (disagree(f, b))
             forward = true, why = "the pilots disagree, and backward paths here are heavy-tailed: " + why;
+        else if (vf > kForwardTrustedVariance)
+            forward = false, why = "too few forward photons reach its plane for their spread to be trusted: " + why;
         if (forward) chosen.insert({i, q});
         log::debug("probe {} {}: {} ({})", probe.name, q, forward ? "forward" : "backward", why);
     }
