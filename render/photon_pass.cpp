@@ -244,7 +244,7 @@ void PhotonTracer::walkFrom(State s, RandomStream& rng, ChunkResult& out, Photon
 double DepthImportance::at(double height) const {
     if (z.empty()) return 1.0;
     if (height >= z.front()) return std::exp(logI.front());
-    if (height <= z.back()) return std::exp(logI.back());
+    if (height <= z.back()) return std::exp(logI.back() - std::min(fallBelow * (z.back() - height), kMaxFall));
     // z descending: the first point at or below `height`.
     const size_t k = static_cast<size_t>(std::upper_bound(z.begin(), z.end(), height, std::greater<double>()) - z.begin());
     const double t = (z[k - 1] - height) / (z[k - 1] - z[k]);
@@ -252,7 +252,7 @@ double DepthImportance::at(double height) const {
 }
 
 DepthImportance DepthImportance::fromProfile(std::vector<std::pair<double, double>> profile, double exponent,
-                                             double maxImportance) {
+                                             double maxImportance, bool fallBelowDeepest) {
     profile.erase(std::remove_if(profile.begin(), profile.end(),
                                  [](const auto& p) { return !(p.second > 0) || !std::isfinite(p.second) || !std::isfinite(p.first); }),
                   profile.end());
@@ -266,6 +266,10 @@ DepthImportance DepthImportance::fromProfile(std::vector<std::pair<double, doubl
         d.z.push_back(z);
         d.logI.push_back(std::clamp(exponent * std::log(top / e), lo, hi));
     }
+    const size_t n = profile.size();
+    if (fallBelowDeepest && profile[n - 2].first > profile[n - 1].first)
+        d.fallBelow = std::max(0.0, std::log(profile[n - 2].second / profile[n - 1].second) /
+                                        (profile[n - 2].first - profile[n - 1].first));
     return d;
 }
 

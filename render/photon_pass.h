@@ -65,12 +65,21 @@ namespace littoral::render {
 // shallow ones.
 struct DepthImportance {
     std::vector<double> z, logI;  // z descending (the shallowest point first)
+    // Below the deepest point, ln I falls by fallBelow per metre (0: constant there; see
+    // fromProfile), down to ln I of the deepest point minus kMaxFall.
+    double fallBelow = 0;
+    static constexpr double kMaxFall = 4.605170185988091;  // ln 100
     bool empty() const { return z.empty(); }
     double at(double height) const;
     // I = (Eo(shallowest) / Eo(z))^exponent, clamped to [1e-2, maxImportance], from (z, Eo) pairs of
     // one medium (points with Eo <= 0 or not finite are left out; fewer than 2 left: empty).
+    // With `fallBelowDeepest`, the importance below the deepest point falls as fast as the last two
+    // points' Eo does (fallBelow = ln(Eo_last-but-one / Eo_last) / their distance): a photon there
+    // reaches the deepest point's plane again only up the same attenuation (a detector's adjoint
+    // decays as the light does, at the diffuse attenuation K), so the photons that wander deep
+    // below every plane are rouletted instead of walked at full weight.
     static DepthImportance fromProfile(std::vector<std::pair<double, double>> profile, double exponent = 1.0,
-                                       double maxImportance = 1e4);
+                                       double maxImportance = 1e4, bool fallBelowDeepest = false);
 };
 
 struct PhotonPassSettings {

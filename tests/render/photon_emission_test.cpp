@@ -281,3 +281,21 @@ TEST(DepthImportance, FollowsTheInverseProfileBetweenThePlanes) {
     EXPECT_TRUE(DepthImportance::fromProfile({{-1, 1.0}, {-5, 0.0}}).empty());
     EXPECT_DOUBLE_EQ(DepthImportance{}.at(-3.0), 1.0);
 }
+
+// The forward tallies' importance below the deepest plane (fromProfile's fallBelowDeepest): it falls
+// at the attenuation of the last two points' Eo, a photon there being as unlikely to come back up to
+// the deepest plane as the light is to get down that far, and at most by a factor 100. Values by
+// hand from the profile of the test above.
+TEST(DepthImportance, FallsBelowTheDeepestPlaneAtTheLastAttenuation) {
+    const DepthImportance d = DepthImportance::fromProfile(
+        {{-10, std::exp(-2.0)}, {-1, std::exp(-0.2)}, {-30, std::exp(-3.0)}}, 1.0, 1e4, true);
+    EXPECT_NEAR(d.fallBelow, 0.05, 1e-12);                         // ln(e^-2 / e^-3) / 20 m
+    EXPECT_NEAR(d.at(-20.0), std::exp(2.3), 1e-12);                 // between the planes: unchanged
+    EXPECT_NEAR(d.at(-30.0), std::exp(2.8), 1e-12);
+    EXPECT_NEAR(d.at(-40.0), std::exp(2.8 - 0.05 * 10), 1e-12);     // 10 m below: e^{-K 10}
+    EXPECT_NEAR(d.at(-1000.0), std::exp(2.8) / 100, 1e-12);         // the floor: 1 / 100 of the deepest
+    // A profile that brightens with depth (a bright floor below) does not fall.
+    const DepthImportance up = DepthImportance::fromProfile({{-1, 1.0}, {-5, 2.0}}, 1.0, 1e4, true);
+    EXPECT_DOUBLE_EQ(up.fallBelow, 0.0);
+    EXPECT_NEAR(up.at(-9.0), up.at(-5.0), 1e-15);
+}
