@@ -560,15 +560,16 @@ void TabulatedPhase::buildLookups() {
 }
 
 namespace {
-// The segment j of sorted nodes v (v[j] <= x < v[j + 1], clamped to [0, v.size() - 2]) by
-// bisection between the lookup entries around bin k (one bin of margin for rounding in k).
+// The segment j of sorted nodes v (v[j] <= x < v[j + 1], clamped to [0, v.size() - 2]): from the
+// segment holding bin k's lower edge, a walk forward over the few nodes in the bin (and back by
+// one where rounding in k put x just below the bin).
 size_t segmentNear(const std::vector<double>& v, const std::vector<uint32_t>& lookup, int bins, double x, double u) {
     const int k = std::clamp(static_cast<int>(u * bins), 0, bins - 1);
-    const size_t lo = lookup[static_cast<size_t>(std::max(k - 1, 0))];
-    const size_t hi = std::min<size_t>(lookup[static_cast<size_t>(std::min(k + 2, bins))] + 2, v.size());
-    size_t j = static_cast<size_t>(std::upper_bound(v.begin() + static_cast<ptrdiff_t>(lo), v.begin() + static_cast<ptrdiff_t>(hi), x) - v.begin());
-    j = j > 0 ? j - 1 : 0;
-    return std::min(j, v.size() - 2);
+    size_t j = lookup[static_cast<size_t>(k)];
+    const size_t last = v.size() - 2;
+    while (j > 0 && v[j] > x) --j;
+    while (j < last && v[j + 1] <= x) ++j;
+    return j;
 }
 }  // namespace
 

@@ -96,7 +96,9 @@ public:
             // walls are scored by the flight that continues from the opposite wall. An upward flight
             // from a collision shares its direction's expectation with collision()'s grazing sample.
             if (!anyAhead(medium, ray.o.z, ray.d.z)) return;
-            const double mis = from && ray.d.z > 0 ? misPhase(md, from->layer, from->dIn, ray.d) : 1.0;
+            const double mis =
+                from && ray.d.z > 0 ? misPhase(md, from->layer, from->dIn, ray.d, upwardProbability(md, medium, from->layer, from->z))
+                                    : 1.0;
             expectedCrossings(ray, medium, w * mis, wallDistance(ray));
             return;
         }
@@ -193,19 +195,40 @@ private:
     // (grazingDirection), combined by the balance heuristic: each scores w p S / (q1 + q2), the
     // flight through its weight w p / q1 times q1 / (q1 + q2) (misPhase). Downward planes are scored
     // by the flight alone.
-    double misPhase(const Medium& md, int layer, const Vec3& dIn, const Vec3& d) const {
+    //
+    // The second direction is drawn with probability P (upwardProbability): 1 within one attenuation
+    // length of the lowest plane above the collision, e^(1 - c dz) beyond, so that collisions far
+    // below every plane, whose upward light hardly reaches one, do not pay for it. With the second
+    // strategy taken with probability P, the balance heuristic's densities are q1 and P q2: the
+    // drawn direction scores w p S / (q1 + P q2) and the flight is weighted q1 / (q1 + P q2), which
+    // keeps the sum's expectation (E = Int f q1 / (q1 + P q2) + P Int f q2 / (q1 + P q2) = Int f).
+    double misPhase(const Medium& md, int layer, const Vec3& dIn, const Vec3& d, double P) const {
         const double q1 = md.pdfAround(layer, g_, dIn, d);
-        return q1 / (q1 + grazingPdf(d.z));
+        return q1 / (q1 + P * grazingPdf(d.z));
+    }
+    // P for a collision at height z in `layer` of `medium` (0 with no plane above it); c is the
+    // layer's smallest extinction over the group's bands.
+    double upwardProbability(const Medium& md, int medium, int layer, double z) const {
+        double dz = ir::kInfinity;
+        for (const Level& l : levels_)
+            if (ahead(l, medium, z, 1.0)) dz = std::min(dz, l.z - z);
+        if (!std::isfinite(dz)) return 0.0;
+        const MediumLayer& ml = md.layers()[static_cast<size_t>(layer)];
+        double c = ir::kInfinity;
+        for (int i = 0; i < g_.count; ++i) c = std::min(c, ml.c[g_.begin + i]);
+        const double x = c * dz;
+        return x <= 1.0 ? 1.0 : std::exp(1.0 - x);
     }
     void upwardSample(const Medium& md, const Point3& x, const Vec3& dIn, int medium, int layer, const Spec& w) {
-        if (!anyAhead(medium, x.z, 1.0)) return;
+        const double P = upwardProbability(md, medium, layer, x.z);
+        if (!(P > 0) || (P < 1.0 && rng_.uniform() >= P)) return;
         const double v0 = rng_.uniform(), v1 = rng_.uniform();
         const Vec3 d = grazingDirection(v0, v1);
         const Spec p = md.phase(layer, g_, dIn, d);
         double q1 = 0;  // Medium::pdfAround, from the values at hand
         for (int i = 0; i < g_.count; ++i) q1 += p[i];
         q1 /= g_.count;
-        expectedCrossings(Ray{x, d}, medium, w * p * (1.0 / (q1 + grazingPdf(d.z))), ir::kInfinity);
+        expectedCrossings(Ray{x, d}, medium, w * p * (1.0 / (q1 + P * grazingPdf(d.z))), ir::kInfinity);
     }
 
     // The distance along `ray` to the domain's side walls, where a periodic photon wraps and goes

@@ -134,7 +134,7 @@ bool PhotonTracer::turn(State& s, const Point3& x, int layer, double I, RandomSt
     const Medium& md = scene_.media()[static_cast<size_t>(s.medium)];
     Spec pw;
     const Vec3 wi = md.samplePhase(layer, g_, s.ray.d, rng, &pw);
-    s.from = PhotonObserver::Scattered{s.ray.d, layer};
+    s.from = PhotonObserver::Scattered{s.ray.d, layer, x.z};
     const bool forward = st_.effectiveScattering && dot(wi, s.ray.d) > cosCone;
     if (!forward && st_.volumeMedium[static_cast<size_t>(s.medium)]) out.volume.add(x, s.ray.d, Vec3{0, 0, 1}, s.w);
     if (!forward) {

@@ -165,6 +165,7 @@ public:
     struct Scattered {
         Vec3 dIn;       // the direction of travel before the collision
         int layer = 0;  // the medium's layer it happened in
+        double z = 0;   // its height (a flight continued across a periodic wall starts elsewhere)
     };
     virtual void flight(const Ray& ray, double tEnd, int medium, const Spec& w, bool sampled, const Scattered* from) = 0;
     // A collision at x in a scattering medium's `layer`, of a photon travelling along dIn, with power
