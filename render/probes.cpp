@@ -398,8 +398,9 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
         const size_t qi = static_cast<size_t>(std::find(probe.quantities.begin(), probe.quantities.end(), q) -
                                               probe.quantities.begin());
         const double vf = predictedVariance(f, f, static_cast<double>(f.samples), static_cast<double>(cfg.probePhotons));
-        auto backwardPilot = [&](int n) {
-            const ProbeValue b = backwardValue(scene, estimators, probe, i, qi, std::max(kPilotBatches, n),
+        // (i by an init-capture: a structured binding cannot be captured before C++20's clang 16.)
+        auto backwardPilot = [&, index = i](int n) {
+            const ProbeValue b = backwardValue(scene, estimators, probe, index, qi, std::max(kPilotBatches, n),
                                                probeStreamBase(estimators) + kProbePilotOffset, quiet, nullptr,
                                                kPilotBatches);
             return std::pair{b, predictedVariance(b, f, static_cast<double>(b.samples), static_cast<double>(N))};
