@@ -126,7 +126,7 @@ std::string coastalRenderSection(bool full, bool photonMaps) {
     if (!full) r += "  hemisphere_samples: 16\n";
     if (!photonMaps) return r;
     r += full ? "  photons: {surface: 50000000, volume: 70000000}\n" : "  photons: {surface: 1000000, volume: 1000000}\n";
-    r += "  search_radius_m: {surface: 0.4, volume: 0.4}\n  march_step_m: 0.5\n";
+    r += "  search_radius_m: {surface: 0.4, volume: 0.4}\n";
     return r;
 }
 

@@ -259,8 +259,7 @@ std::string runSceneYaml(const ImageQualityOptions& o, const StudySetup& s, cons
         "  estimator: dirsig\n"
         "  seed: {seed}\n"
         "  photons: {{surface: {ns}, volume: {nv}}}\n"
-        "  search_radius_m: {{surface: {r}, volume: {r}}}\n"
-        "  march_step_m: 0.5\n",
+        "  search_radius_m: {{surface: {r}, volume: {r}}}\n",
         fmt::arg("depth", p.depth), fmt::arg("dens", p.density), fmt::arg("r", p.radius), fmt::arg("id", p.id),
         fmt::arg("h0", -0.5 * s.side), fmt::arg("h1", 0.5 * s.side), fmt::arg("a", s.water->a),
         fmt::arg("b", s.water->b), fmt::arg("g", o.g), fmt::arg("wd", kWaterDepth), fmt::arg("hd", kHeadingDeg),

@@ -778,7 +778,7 @@ std::string pmVsPathScene(bool photonMaps, bool quick) {
         f.probes += fmt::format("  - {{name: z{}, position: [0, 0, -{}], quantities: [Ed, Eou, Lu], samples: {}}}\n", z, z, samples);
     f.render = photonMaps ? fmt::format("  bands: [[0.5, 0.51]]\n  estimator: dirsig\n  photons: {{surface: {}, volume: {}}}\n"
                                         "  search_radius_m: {{surface: 0.15, volume: 0.15}}\n  progressive: {{passes: 8, alpha: 0.99}}\n"
-                                        "  probe_batches: 8\n  march_step_m: 0.3\n",
+                                        "  probe_batches: 8\n",
                                         quick ? 20000 : 80000, quick ? 150000 : 600000)
                           : "{bands: [[0.5, 0.51]], estimator: path, probe_batches: 16}";
     return flatSceneYaml(f);

@@ -217,15 +217,23 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const bool layered = md.layers().size() > 1;
     const double sinToVertical = std::sqrt(std::max(0.0, 1.0 - ray.d.z * ray.d.z));
     const double kEnd = cutEnd ? slope(endNormal) : ir::kInfinity, kStart = cutStart ? slope(startNormal) : ir::kInfinity;
-    for (double t0 = 0; t0 < tEnd; t0 += config_.marchStep) {
-        const double t1 = std::min(tEnd, t0 + config_.marchStep);
+    for (double t0 = 0, t1; t0 < tEnd; t0 = t1) {
+        t1 = std::min(tEnd, t0 + config_.marchStep);
+        // A step ends where the ray leaves its layer, so that its transmittance is the exact
+        // exponential of one layer (a step that crosses, by rounding, takes the walk below).
+        bool toBoundary = false;
+        if (layered && ray.d.z != 0) {
+            const MediumLayer& here = md.layers()[static_cast<size_t>(md.layerAt(ray.at(t0).z))];
+            const double tb = ((ray.d.z < 0 ? here.zBottom : here.zTop) - ray.o.z) / ray.d.z;
+            if (tb > t0 + 1e-9 && tb < t1) t1 = tb, toBoundary = true;
+        }
         // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
         // the step crosses a layer boundary, where the walk is used).
         const Spec T0 = md.transmittance(ray, t0, group_, eff);
         // Past e^-12 in every band (through a dense layer, long before the cut by the clearest layer's
         // c above) nothing more counts.
         if (T0.maxValue() < 6e-6) break;
-        const int l0 = md.layerAt(ray.at(t0).z), l1 = md.layerAt(ray.at(t1).z);
+        const int l0 = md.layerAt(ray.at(t0).z), l1 = toBoundary ? l0 : md.layerAt(ray.at(t1).z);
         const MediumLayer& layer = md.layers()[l0];
         const Point3 a = ray.at(t0), b = ray.at(t1);
         const Point3 lo{std::min(a.x, b.x) - rV_, std::min(a.y, b.y) - rV_, 0};

@@ -297,8 +297,7 @@ std::string siteObjectsAndRender(const std::vector<Target>& targets, const SiteS
     // Three bands over 0.4-0.7 um (blue, green, red): a true-colour preview (core/colour.h).
     if (!sc.render.empty()) return y + sc.render;
     y += "render:\n  bands: {range_um: [0.4, 0.7], count: 3}\n  seed: 1\n"
-         "  photons: {surface: 2000000, volume: 2000000}\n  search_radius_m: {surface: 0.4, volume: 0.4}\n"
-         "  march_step_m: 0.5\n";
+         "  photons: {surface: 2000000, volume: 2000000}\n  search_radius_m: {surface: 0.4, volume: 0.4}\n";
     return y;
 }
 

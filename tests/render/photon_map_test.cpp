@@ -47,7 +47,12 @@ void expectQueriesMatchBruteForce(const PhotonMap& m, const std::vector<Point3>&
         const Point3 c = centres[static_cast<size_t>(q) % centres.size()];
         const Point3 o{c.x + scale * (rng.uniform() * 4.4 - 2.2), c.y + scale * (rng.uniform() * 4.4 - 2.2),
                        c.z - scale * (rng.uniform() * 5.4 - 0.2)};
-        const Vec3 d = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
+        Vec3 d = normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
+        // Segments along an axis, and one along the grid's rows (x) off by 1e-13: the row intervals'
+        // degenerate cases (forEachBucketInBox).
+        const Vec3 axes[7] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
+                              normalize(Vec3{1, 1e-13, -1e-13})};
+        if (q < 14) d = axes[q % 7];
         const double r = 0.05 + 0.15 * rng.uniform(), t1 = rng.uniform();
         int gs = 0, bs = 0, gc = 0, bc = 0;
         m.forEachInSphere(o, r, [&](size_t) { ++gs; });
