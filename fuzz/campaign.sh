@@ -10,7 +10,8 @@
 # overrides both). ir_render is built only with -DLITTORAL_FUZZ_RENDER=ON, so it is not in the
 # default list: name it (docs/reliability.md). LITTORAL_FUZZ_SECONDS, when set, also stops each
 # target after that many seconds (-max_total_time), whichever of the two limits comes first; the
-# summary line records the executions reached.
+# summary line records the executions reached. A target with a grown corpus committed in
+# fuzz/corpus-grown/<target>.tar.xz starts from it when OUT/<target>/new is empty.
 # Usage: fuzz/campaign.sh FUZZ_BUILD_DIR RUNS OUT_DIR [targets...]
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,6 +29,13 @@ for t in "${targets[@]}"; do
   time_limit=()
   [ -n "${LITTORAL_FUZZ_SECONDS:-}" ] && time_limit=(-max_total_time="$LITTORAL_FUZZ_SECONDS")
   mkdir -p "$out/$t/new" "$out/$t/artifacts"
+  # A campaign spread over sessions goes on from the corpus the last one grew, committed as
+  # fuzz/corpus-grown/<target>.tar.xz (the machine's own folders do not outlive a session).
+  grown="$root/fuzz/corpus-grown/$t.tar.xz"
+  if [ -f "$grown" ] && [ -z "$(ls -A "$out/$t/new")" ]; then
+    tar -xJf "$grown" -C "$out/$t/new" --strip-components=1
+    echo "$t: $(ls "$out/$t/new" | wc -l) inputs from $grown"
+  fi
   start=$(date +%s)
   # -jobs=1: one worker process, whose output libFuzzer writes to fuzz-0.log in the current
   # folder, hence the cd.

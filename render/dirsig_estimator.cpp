@@ -62,6 +62,9 @@ struct PathState {
 // 1 - (acos x - x sqrt(1 - x^2)) / pi, x = min(h / r, 1). 1/2 when the line passes through the
 // centre, 1 when it misses the disc.
 double discFractionInside(double h, double r) {
+    // The line misses the disc (most photons of a segment that a surface starts or ends): the
+    // formula's value, 1, without its acos and square root.
+    if (h >= r) return 1.0;
     const double x = std::min(1.0, std::max(0.0, h / r));
     return 1.0 - (std::acos(x) - x * std::sqrt(1.0 - x * x)) / kPi;
 }
@@ -79,6 +82,18 @@ double layerDiscFraction(const Medium& md, int l, double z, double sinToVertical
     if (l > 0) f *= discFractionInside((layer.zTop - z) / sinToVertical, r);
     if (l + 1 < static_cast<int>(md.layers().size())) f *= discFractionInside((z - layer.zBottom) / sinToVertical, r);
     return f;
+}
+
+// The end of a gather step from t0 that would end at t1: earlier where the ray leaves its layer
+// (toBoundary then set), so that the step's transmittance is the exact exponential of one layer. A
+// step that crosses a boundary by rounding takes the transmittance walk instead.
+double gatherStepEnd(const Medium& md, const Ray& ray, double t0, double t1, bool* toBoundary) {
+    if (md.layers().size() < 2 || ray.d.z == 0) return t1;
+    const MediumLayer& here = md.layers()[static_cast<size_t>(md.layerAt(ray.at(t0).z))];
+    const double tb = ((ray.d.z < 0 ? here.zBottom : here.zTop) - ray.o.z) / ray.d.z;
+    if (!(tb > t0 + 1e-9 && tb < t1)) return t1;
+    *toBoundary = true;
+    return tb;
 }
 
 constexpr int kCoverageProbes = 16, kCoverageHits = 16, kMaxCoverageProbes = 4096;
@@ -218,15 +233,8 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const double sinToVertical = std::sqrt(std::max(0.0, 1.0 - ray.d.z * ray.d.z));
     const double kEnd = cutEnd ? slope(endNormal) : ir::kInfinity, kStart = cutStart ? slope(startNormal) : ir::kInfinity;
     for (double t0 = 0, t1; t0 < tEnd; t0 = t1) {
-        t1 = std::min(tEnd, t0 + config_.marchStep);
-        // A step ends where the ray leaves its layer, so that its transmittance is the exact
-        // exponential of one layer (a step that crosses, by rounding, takes the walk below).
         bool toBoundary = false;
-        if (layered && ray.d.z != 0) {
-            const MediumLayer& here = md.layers()[static_cast<size_t>(md.layerAt(ray.at(t0).z))];
-            const double tb = ((ray.d.z < 0 ? here.zBottom : here.zTop) - ray.o.z) / ray.d.z;
-            if (tb > t0 + 1e-9 && tb < t1) t1 = tb, toBoundary = true;
-        }
+        t1 = gatherStepEnd(md, ray, t0, std::min(tEnd, t0 + config_.marchStep), &toBoundary);
         // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
         // the step crosses a layer boundary, where the walk is used).
         const Spec T0 = md.transmittance(ray, t0, group_, eff);
