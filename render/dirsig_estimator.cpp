@@ -84,12 +84,13 @@ double layerDiscFraction(const Medium& md, int l, double z, double sinToVertical
     return f;
 }
 
-// The end of a gather step from t0 that would end at t1: earlier where the ray leaves its layer
-// (toBoundary then set), so that the step's transmittance is the exact exponential of one layer. A
-// step that crosses a boundary by rounding takes the transmittance walk instead.
-double gatherStepEnd(const Medium& md, const Ray& ray, double t0, double t1, bool* toBoundary) {
+// The end of a gather step from t0, in layer l0, that would end at t1: earlier where the ray
+// leaves that layer (toBoundary then set), so that the step's transmittance is the exact
+// exponential of one layer. A step that crosses a boundary by rounding takes the transmittance
+// walk instead.
+double gatherStepEnd(const Medium& md, const Ray& ray, double t0, int l0, double t1, bool* toBoundary) {
     if (md.layers().size() < 2 || ray.d.z == 0) return t1;
-    const MediumLayer& here = md.layers()[static_cast<size_t>(md.layerAt(ray.at(t0).z))];
+    const MediumLayer& here = md.layers()[static_cast<size_t>(l0)];
     const double tb = ((ray.d.z < 0 ? here.zBottom : here.zTop) - ray.o.z) / ray.d.z;
     if (!(tb > t0 + 1e-9 && tb < t1)) return t1;
     *toBoundary = true;
@@ -233,15 +234,16 @@ Spec DirsigEstimator::volumeInScatter(const Ray& ray, double tMax, int medium, c
     const double sinToVertical = std::sqrt(std::max(0.0, 1.0 - ray.d.z * ray.d.z));
     const double kEnd = cutEnd ? slope(endNormal) : ir::kInfinity, kStart = cutStart ? slope(startNormal) : ir::kInfinity;
     for (double t0 = 0, t1; t0 < tEnd; t0 = t1) {
+        const int l0 = md.layerAt(ray.at(t0).z);
         bool toBoundary = false;
-        t1 = gatherStepEnd(md, ray, t0, std::min(tEnd, t0 + config_.marchStep), &toBoundary);
+        t1 = gatherStepEnd(md, ray, t0, l0, std::min(tEnd, t0 + config_.marchStep), &toBoundary);
         // Transmittance at the step's start, then exp(-c (t - t0)) in the layer there (exact unless
         // the step crosses a layer boundary, where the walk is used).
         const Spec T0 = md.transmittance(ray, t0, group_, eff);
         // Past e^-12 in every band (through a dense layer, long before the cut by the clearest layer's
         // c above) nothing more counts.
         if (T0.maxValue() < 6e-6) break;
-        const int l0 = md.layerAt(ray.at(t0).z), l1 = toBoundary ? l0 : md.layerAt(ray.at(t1).z);
+        const int l1 = toBoundary ? l0 : md.layerAt(ray.at(t1).z);
         const MediumLayer& layer = md.layers()[l0];
         const Point3 a = ray.at(t0), b = ray.at(t1);
         const Point3 lo{std::min(a.x, b.x) - rV_, std::min(a.y, b.y) - rV_, 0};

@@ -398,7 +398,8 @@ std::set<std::pair<int, std::string>> chooseForward(const Scene& scene, const Es
         const size_t qi = static_cast<size_t>(std::find(probe.quantities.begin(), probe.quantities.end(), q) -
                                               probe.quantities.begin());
         const double vf = predictedVariance(f, f, static_cast<double>(f.samples), static_cast<double>(cfg.probePhotons));
-        // (i by an init-capture: a structured binding cannot be captured before C++20's clang 16.)
+        // i by an init-capture: clang before 16 (14 builds the rendered-IR fuzzer) cannot capture a
+        // structured binding.
         auto backwardPilot = [&, index = i](int n) {
             const ProbeValue b = backwardValue(scene, estimators, probe, index, qi, std::max(kPilotBatches, n),
                                                probeStreamBase(estimators) + kProbePilotOffset, quiet, nullptr,

@@ -86,8 +86,9 @@ TEST(PhotonMapColumns, TheGatherStepChangesOnlyTheTime) {
         text.replace(at, 12, "samples: 16");
     ASSERT_EQ(text.find("march_step_m"), std::string::npos);  // the default: 20 radii
     const fs::path dir = scratchDir("pipelines", "photon_map_columns_gather_step");
+    const std::string shortStep = "  march_step_m: 0.07\n";
     std::map<std::string, ProbeTable> tables;
-    for (const std::string step : {"", "  march_step_m: 0.07\n"}) {
+    for (const std::string& step : {std::string(), shortStep}) {
         // render: is the file's last section
         const fs::path scene = writeTextFile(dir, step.empty() ? "default.yaml" : "short.yaml", text + step);
         const fs::path out = dir / (step.empty() ? "default" : "short");
@@ -96,7 +97,7 @@ TEST(PhotonMapColumns, TheGatherStepChangesOnlyTheTime) {
         tables[step] = readProbeTable(out);
     }
     const ProbeTable& a = tables[""];
-    const ProbeTable& b = tables["  march_step_m: 0.07\n"];
+    const ProbeTable& b = tables[shortStep];
     ASSERT_EQ(a.size(), 5u);
     for (const auto& [probe, cells] : a)
         for (const auto& [q, cell] : cells) {

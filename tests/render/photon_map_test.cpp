@@ -294,6 +294,28 @@ TEST(PhotonMapping, AgreesWithPathTracerOnASubmergedBox) {
 }
 
 
+// dirsig's gather step along rays through medium-pm water (docs/scene-format.md, march_step_m): 20
+// volume search radii when the scene sets none (a query's cells reach a radius and a half beyond
+// each end of its step, so short steps test several photons for each one counted), at most the
+// setting's upper end of 100 m; a step the scene sets is taken as it is.
+TEST(PhotonMapping, TheGatherStepDefaultsToTwentyVolumeRadii) {
+    auto config = [](double radius, double step) {
+        ir::SceneIR s;
+        s.name = "gather-step";
+        s.materials.push_back(material("floor", M::Type::Black, M::Solver::Classic));
+        ir::Medium w = water(0.05, 0.25);
+        w.solver = ir::Medium::Solver::MediumPM;
+        s.render.settings.set("volume_photons", 1000);
+        s.render.settings.set("volume_search_radius_m", radius);
+        if (step > 0) s.render.settings.set("march_step_m", step);
+        addPeriodicSlab(s, w, 20.0, 5.0, "floor");
+        return makeRenderConfig(s);
+    };
+    EXPECT_DOUBLE_EQ(config(0.15, 0).marchStep, 3.0);   // 20 x 0.15 m
+    EXPECT_DOUBLE_EQ(config(0.15, 0.3).marchStep, 0.3);  // set: as it is
+    EXPECT_DOUBLE_EQ(config(6.0, 0).marchStep, 100.0);  // 20 x 6 m = 120 m, above the range's end
+}
+
 // Sunlight through a tilted flat facet (issue 9). The water's top face is a plane tilted by
 // beta = 12 deg about the y axis; a black mask with a 0.4 m square hole lies above it; the sun is at
 // the zenith (E = 1). Through the hole the beam meets the facet at incidence beta, refracts to
