@@ -43,7 +43,7 @@ void runBuild(const BuildOptions& o) {
                              t.total());
 }
 
-littoral::CommandRegistrar reg{"build", [](CLI::App& app) {
+littoral::CommandRegistrar registerBuild{"build", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("build", "Assemble a scene file into a checked Scene IR directory (plus validity.json)");
     auto o = std::make_shared<BuildOptions>();
     cmd->add_option("scene", o->scene, "Scene file (YAML)")->required()->check(CLI::ExistingFile);

@@ -71,7 +71,7 @@ int runCheckMesh(const CheckMeshOptions& o) {
     return rep.valid() ? 0 : 1;
 }
 
-littoral::CommandRegistrar reg{"check-mesh", [](CLI::App& app) {
+littoral::CommandRegistrar registerCheckMesh{"check-mesh", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("check-mesh",
                                    "Check that a mesh (OBJ/PLY/OFF/STL) is a closed, manifold, non-self-intersecting, "
                                    "outward-oriented volume. Exit 0 valid, 1 invalid, 2 unreadable");

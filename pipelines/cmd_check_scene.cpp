@@ -4,13 +4,15 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/log.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
 
 namespace {
 
-littoral::CommandRegistrar reg{"check-scene", [](CLI::App& app) {
+littoral::CommandRegistrar registerCheckScene{"check-scene", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("check-scene", "Validate a scene file without running it (exit 0 valid, 1 invalid)");
     auto file = std::make_shared<std::string>();
     cmd->add_option("SCENE", *file, "Scene file (YAML)")->required();

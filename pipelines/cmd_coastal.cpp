@@ -4,6 +4,8 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_coastal.h"
@@ -11,7 +13,7 @@
 
 namespace {
 
-littoral::CommandRegistrar reg{"coastal", [](CLI::App& app) {
+littoral::CommandRegistrar registerCoastal{"coastal", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("coastal", "Render one of the dissertation's coastal simulations A-J (Table 10.1) or a "
                                               "Section 10.4 demonstration (cube, shadows)");
     auto o = std::make_shared<littoral::pipelines::CoastalOptions>();

@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <memory>
 
+#include <CLI/CLI.hpp>
+
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_column.h"
 
 namespace {
 
-littoral::CommandRegistrar reg{"column", [](CLI::App& app) {
+littoral::CommandRegistrar registerColumn{"column", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("column", "Solve a horizontally homogeneous scene as a 1-D column (depth profiles)");
     auto o = std::make_shared<littoral::pipelines::ColumnOptions>();
     cmd->add_option("SCENE", o->scene, "Scene file (YAML)")->required();

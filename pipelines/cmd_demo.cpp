@@ -6,13 +6,15 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
 
 namespace {
 
-littoral::CommandRegistrar reg{"demo", [](CLI::App& app) {
+littoral::CommandRegistrar registerDemo{"demo", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("demo", "Generate, build and render the built-in coastal scene");
     auto o = std::make_shared<littoral::pipelines::DemoOptions>();
     cmd->add_option("--out", o->out, "Output directory")->capture_default_str();

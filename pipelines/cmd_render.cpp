@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -26,7 +28,7 @@ struct RenderCmdOptions {
     littoral::render::PreviewOptions preview;
 };
 
-littoral::CommandRegistrar reg{"render", [](CLI::App& app) {
+littoral::CommandRegistrar registerRender{"render", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("render", "Render the sensors and probes of a Scene IR directory");
     auto o = std::make_shared<RenderCmdOptions>();
     cmd->add_option("IR_DIR", o->irDir, "Scene IR directory (scene.json + meshes)")->required();

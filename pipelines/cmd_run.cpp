@@ -4,6 +4,8 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "core/progress.h"
 #include "core/ranks.h"
@@ -12,7 +14,7 @@
 
 namespace {
 
-littoral::CommandRegistrar reg{"run", [](CLI::App& app) {
+littoral::CommandRegistrar registerRun{"run", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("run", "Build a scene file and render it (build + render)");
     auto o = std::make_shared<littoral::pipelines::RunOptions>();
     cmd->add_option("SCENE", o->scene, "Scene file (YAML)")->required();

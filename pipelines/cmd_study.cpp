@@ -5,6 +5,8 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "pipelines/command_registry.h"
@@ -12,7 +14,7 @@
 
 namespace {
 
-littoral::CommandRegistrar reg{"study", [](CLI::App& app) {
+littoral::CommandRegistrar registerStudy{"study", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("study", "Parameter studies that render many scenes and tabulate and plot the results");
     cmd->require_subcommand(1);
     auto* iq = cmd->add_subcommand("image-quality",

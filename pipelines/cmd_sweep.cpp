@@ -4,13 +4,15 @@
 #include <cstdio>
 #include <memory>
 
+#include <CLI/CLI.hpp>
+
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_scene.h"
 #include "pipelines/lib_sweep.h"
 
 namespace {
 
-littoral::CommandRegistrar reg{"sweep", [](CLI::App& app) {
+littoral::CommandRegistrar registerSweep{"sweep", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("sweep", "Run a scene over a grid of values (a study), one run folder each, with an index");
     auto o = std::make_shared<littoral::pipelines::SweepOptions>();
     cmd->add_option("SCENE", o->scene, "Scene file (YAML)")->required();

@@ -5,13 +5,15 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "pipelines/command_registry.h"
 #include "pipelines/lib_validate.h"
 
 namespace {
 
-littoral::CommandRegistrar reg{"validate", [](CLI::App& app) {
+littoral::CommandRegistrar registerValidate{"validate", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("validate", "Run the validation suite and write report.html and summary.json (exit 1 on a failure)");
     auto o = std::make_shared<littoral::pipelines::ValidateOptions>();
     cmd->add_option("--out", o->out, "Output folder (report.html, summary.json, cases/, runs/)")->required();

@@ -85,7 +85,7 @@ void runWaves(const WavesOptions& o) {
     std::fputs(surf::waveSummary(s).c_str(), stdout);
 }
 
-littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
+littoral::CommandRegistrar registerWaves{"waves", [](CLI::App& app) {
     auto* cmd = app.add_subcommand("waves", "Generate a wind-roughened sea surface mesh and its statistics");
     auto o = std::make_shared<WavesOptions>();
     cmd->add_option("--wind", o->wind, "Wind speed, m/s, at the model's reference height (beaufort and cox-munk "

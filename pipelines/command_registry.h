@@ -4,7 +4,7 @@
 // The cmd_*.cpp files are compiled straight into the executable (not an archive), so the
 // registrars are never dropped by the linker.
 //
-//   static littoral::CommandRegistrar reg{"waves", [](CLI::App& app) {
+//   static littoral::CommandRegistrar registerWaves{"waves", [](CLI::App& app) {
 //       auto* cmd = app.add_subcommand("waves", "Generate a wind-roughened sea surface");
 //       auto opts = std::make_shared<WavesOptions>();
 //       cmd->add_option("--wind", opts->wind, "...");
@@ -17,7 +17,11 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+// CLI11 costs about 10 s of compilation in each file that includes it: only the command files
+// and main.cpp, which add options, include it.
+namespace CLI {
+class App;
+}
 
 namespace littoral {
 

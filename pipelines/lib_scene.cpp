@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"

@@ -4,9 +4,11 @@
 #include <filesystem>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
 #include "render/image_output.h"
+
+namespace CLI {
+class App;
+}
 
 namespace littoral::pipelines {
 
