@@ -199,25 +199,27 @@ public:
         // A u^2 + B u + C + R2 (A = 1 - d.x^2); t in [t0, t1] bounds u where d.x != 0.
         const double wy = y - o_.y, wz = z - o_.z, k = wy * d_.y + wz * d_.z;
         const double B = -2 * d_.x * k, C = wy * wy + wz * wz - k * k - R2_;
+        // (An empty part is a flag, not ua = inf: with ub = inf too, ua <= ub would hold.)
         double ua = -kInf, ub = kInf;
+        bool empty = false;
         if (slab_) {
             ua = (t0_ - k) * invDx_, ub = (t1_ - k) * invDx_;
             if (ua > ub) std::swap(ua, ub);
         } else if (k < t0_ || k > t1_) {
-            ua = kInf;  // the row's plane misses the slab between the ends: empty
+            empty = true;  // the row's plane misses the slab between the ends
         }
         if (!alongX_) {
             const double disc = B * B - 4 * A_ * C;
             if (disc < 0) {
-                ua = kInf;
+                empty = true;
             } else {
                 const double s = std::sqrt(disc);
                 ua = std::max(ua, (-B - s) * inv2A_), ub = std::min(ub, (-B + s) * inv2A_);
             }
         } else if (C > 0) {  // the segment runs along x: its distance to the row does not vary with u
-            ua = kInf;
+            empty = true;
         }
-        if (ua <= ub) lo = std::min(lo, o_.x + ua), hi = std::max(hi, o_.x + ub);
+        if (!empty && ua <= ub) lo = std::min(lo, o_.x + ua), hi = std::max(hi, o_.x + ub);
         if (!(lo <= hi)) return false;
         *xa = lo, *xb = hi;
         return true;
@@ -243,9 +245,12 @@ void PhotonMap::keptRows(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int64_t
             CellRow& r = rows[n++];
             r = CellRow{1, 0};
             if (!rowRange((iy + 0.5) * cell_, (iz + 0.5) * cell_, &xa, &xb)) continue;
-            // Cells whose centre (ix + 0.5) cell lies in [xa, xb].
-            r.first = std::max(x0, static_cast<int64_t>(std::ceil(xa * inv - 0.5)));
-            r.second = std::min(x1, static_cast<int64_t>(std::floor(xb * inv - 0.5)));
+            // Cells whose centre (ix + 0.5) cell lies in [xa, xb], within [x0, x1]. Compared as doubles
+            // before the conversion, which an infinite or NaN bound would make undefined (a NaN
+            // keeps the whole row: the photons are tested one by one anyway).
+            const double fa = std::ceil(xa * inv - 0.5), fb = std::floor(xb * inv - 0.5);
+            r.first = fa > static_cast<double>(x0) ? (fa <= static_cast<double>(x1) ? static_cast<int64_t>(fa) : x1 + 1) : x0;
+            r.second = fb < static_cast<double>(x1) ? (fb >= static_cast<double>(x0) ? static_cast<int64_t>(fb) : x0 - 1) : x1;
         }
 }
 

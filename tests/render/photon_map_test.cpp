@@ -89,6 +89,56 @@ TEST(PhotonMap, GridQueriesMatchBruteForce) {
     }
 }
 
+// The rows of a capsule (CapsuleRows) against a dense scan of each row: a row meets the capsule iff
+// some scanned point lies within sqrt(R2) of the segment, and then the interval spans the scanned
+// points within, to the scan's step. The segments include directions with d.x exactly 0 that are
+// not along an axis: there the row's plane can lie between the ends while the row misses the
+// cylinder, which the rendered-IR fuzzer found returned (inf, inf) (an undefined conversion to a
+// cell index; on x86 it read as an empty row, which is the right answer, by chance).
+TEST(PhotonMap, CapsuleRowsMatchADenseScanOfEachRow) {
+    struct Segment {
+        Point3 o;
+        Vec3 d;
+        double t0, t1, R2;
+    };
+    const double s = 1.0 / std::sqrt(17.0);  // (0, 1, -4) / sqrt(17): the fuzzer's direction
+    const std::vector<Segment> segments = {
+        {{0, 0.25, -3.814697265625e-06}, {0.0, s, -4 * s}, 1, 1.5, 0.513381},
+        {{0, 0, 0}, {-0.0, 0.6, 0.8}, 0, 2, 0.09},
+        {{0.3, -0.2, 0.1}, {0.48, 0.6, 0.64}, 0.5, 1.7, 0.04},
+        {{0, 0, 0}, {1, 0, 0}, -1, 1, 0.25},
+    };
+    constexpr double kStep = 1e-3;
+    for (const Segment& g : segments) {
+        const CapsuleRows rows(g.o, g.d, g.t0, g.t1, g.R2);
+        for (double y = -2.0; y <= 2.0; y += 0.0625)
+            for (double z = -2.5; z <= 2.5; z += 0.0625) {
+                // Points strictly within (by 1e-9 of R2) and loosely within: a tangent row may go either way.
+                double lo = 1e9, hi = -1e9, looseLo = 1e9, looseHi = -1e9;
+                for (double x = -3; x <= 3; x += kStep) {
+                    const Vec3 w = Point3{x, y, z} - g.o;
+                    const double t = std::clamp(dot(w, g.d), g.t0, g.t1), d2 = lengthSquared(w - g.d * t);
+                    if (d2 <= g.R2 * (1 - 1e-9)) lo = std::min(lo, x), hi = std::max(hi, x);
+                    if (d2 <= g.R2 * (1 + 1e-9)) looseLo = std::min(looseLo, x), looseHi = std::max(looseHi, x);
+                }
+                double xa = 0, xb = 0;
+                if (!rows(y, z, &xa, &xb)) {
+                    EXPECT_GT(lo, hi) << "row y " << y << " z " << z << " meets the capsule at x " << lo;
+                    continue;
+                }
+                ASSERT_TRUE(std::isfinite(xa) && std::isfinite(xb)) << "y " << y << " z " << z << ": " << xa << " " << xb;
+                if (looseLo > looseHi) {  // a tangent row the scan stepped over: shorter than a step
+                    EXPECT_LT(xb - xa, 2 * kStep) << "y " << y << " z " << z;
+                    continue;
+                }
+                EXPECT_LE(xa, std::min(lo, looseHi) + kStep) << "y " << y << " z " << z;
+                EXPECT_GE(xa, looseLo - kStep) << "y " << y << " z " << z;
+                EXPECT_GE(xb, std::max(hi, looseLo) - kStep) << "y " << y << " z " << z;
+                EXPECT_LE(xb, looseHi + kStep) << "y " << y << " z " << z;
+            }
+    }
+}
+
 // A white-ish Lambertian plane under a sun at 30 deg and a uniform sky, seen by the SurfacePM
 // solver: L = r (E_sun cos 30 + pi L_sky) / pi exactly (nothing occludes). Photons land uniformly,
 // so the estimate from the N photons in a search disc has relative standard error 1/sqrt(N)
