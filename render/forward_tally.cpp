@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <tuple>
 
@@ -207,8 +208,14 @@ private:
         return q1 / (q1 + P * grazingPdf(d.z));
     }
     // P for a collision at height z in `layer` of `medium` (0 with no plane above it); c is the
-    // layer's smallest extinction over the group's bands.
-    double upwardProbability(const Medium& md, int medium, int layer, double z) const {
+    // layer's smallest extinction over the group's bands. Asked twice per collision (its upward
+    // sample, then the flight that leaves it), so the last answer is kept.
+    double upwardProbability(const Medium& md, int medium, int layer, double z) {
+        if (z == memo_.z && layer == memo_.layer && medium == memo_.medium) return memo_.P;
+        memo_ = {z, layer, medium, upwardProbabilityOf(md, medium, layer, z)};
+        return memo_.P;
+    }
+    double upwardProbabilityOf(const Medium& md, int medium, int layer, double z) const {
         double dz = ir::kInfinity;
         for (const Level& l : levels_)
             if (ahead(l, medium, z, 1.0)) dz = std::min(dz, l.z - z);
@@ -249,6 +256,11 @@ private:
     std::vector<Spec> sums_;
     uint64_t cuts_ = 0;
     RandomStream rng_;
+    struct {
+        double z = std::numeric_limits<double>::quiet_NaN();  // equal to no height
+        int layer = -1, medium = -1;
+        double P = 0;
+    } memo_;
 };
 
 int tallyOf(const std::string& q) {
@@ -321,6 +333,15 @@ std::string invarianceProblem(const ir::SceneIR& ir, std::map<LevelKey, double>*
 std::string horizontalInvarianceProblem(const ir::SceneIR& ir) {
     std::map<LevelKey, double> faces;
     return invarianceProblem(ir, &faces);
+}
+
+bool horizontalFacePlanes(const ir::SceneIR& ir, std::vector<double>* planes) {
+    std::map<LevelKey, double> faces;
+    if (!invarianceProblem(ir, &faces).empty()) return false;
+    planes->clear();
+    for (const auto& [key, a] : faces)
+        if (planes->empty() || planes->back() != key.z) planes->push_back(key.z);  // the keys sort by z first
+    return true;
 }
 
 namespace {
@@ -532,19 +553,9 @@ ForwardTallies::ForwardTallies(const Scene& scene, const EstimatorSet& estimator
         v.samples = static_cast<int64_t>(photons);
         v.batches = B;
         v.method = "forward";
-        values_[{i, q}] = std::move(v);
+        set(i, q, std::move(v));
     }
 }
 
-std::vector<std::pair<int, std::string>> ForwardTallies::answered() const {
-    std::vector<std::pair<int, std::string>> keys;
-    for (const auto& [key, v] : values_) keys.push_back(key);
-    return keys;
-}
-
-const ProbeValue* ForwardTallies::find(int index, const std::string& q) const {
-    const auto it = values_.find({index, q});
-    return it == values_.end() ? nullptr : &it->second;
-}
 
 }  // namespace littoral::render
