@@ -532,6 +532,9 @@ const KindInfo& dirsigEstimatorKind() {
              "DIRSIG's effective scattering coefficient (scattering within 0.01 sr of forward is unscattered)"},
             {"photon_depth_splitting", "photons.depth_splitting", T::Boolean, 0, 0, 1, "",
              "volume photons split by depth (I = Eo(top) / Eo(z) from a pilot), so deep water gets photons"},
+            {"probe_collisions", "photons.probe_collisions", T::Boolean, 0, 0, 1, "",
+             "irradiance probes of a horizontally invariant scene from the volume map's collisions in a slab "
+             "(at least 2 progressive passes) instead of its gather along directions"},
             {"photon_importance", "photons.importance", T::Boolean, 1, 0, 1, "",
              "importance emission: photons start where a pilot found they store, weighted so the estimate is unchanged"},
             {"progressive_passes", "progressive.passes", T::Integer, 1, 1, 100000, "",

@@ -1,4 +1,5 @@
 #include "render/estimator.h"
+#include "render/forward_tally.h"
 
 #include <algorithm>
 #include <cmath>
@@ -246,10 +247,20 @@ std::string readDirsigPhotonSettings(const ir::SceneIR& ir, SettingsReader& r, R
                                                : std::clamp(kGatherStepRadii * c->volumeRadius, 1e-4, 100.0);
         c->effectiveScattering = r.get<bool>("effective_scattering");
         c->depthSplitting = r.get<bool>("photon_depth_splitting");
+        c->probeCollisions = r.get<bool>("probe_collisions");
     }
     if (c->usesPhotons()) {
         readPhotonPasses(ir.render, r, c);
         c->photonImportance = r.get<bool>("photon_importance");
+    }
+    if (c->probeCollisions) {
+        // Its standard error is the passes' spread, and its slab spans the domain (volume_map_probes.h).
+        if (c->passes < 2)
+            r.fail("probe_collisions", "needs at least 2 progressive passes (render.progressive.passes): the standard "
+                                       "error of a collision estimate is the spread of the passes' maps");
+        if (const std::string why = horizontalInvarianceProblem(ir); !why.empty())
+            r.fail("probe_collisions", fmt::format("applies only to a horizontally invariant scene (docs/rendering.md, "
+                                                   "\"Forward probe tallies\"), and here {}", why));
     }
     return surfacePM < 0 && mediumPM < 0 ? "photon maps (photons, search_radius_m, march_step_m, progressive) are read "
                                            "only when a material uses solver surface-pm or the water uses solver medium-pm"

@@ -68,6 +68,9 @@ struct RenderConfig {
     bool effectiveScattering = false;
     bool photonImportance = true;  // render.photons.importance
     bool depthSplitting = false;   // render.photons.depth_splitting (volume map)
+    // render.photons.probe_collisions: the irradiances of probes in a horizontally invariant scene
+    // from the volume map's collisions (render/volume_map_probes.h) instead of its gather.
+    bool probeCollisions = false;
     int passes = 1;             // progressive passes
     double alpha = 2.0 / 3.0;   // radius reduction per pass (Knaus & Zwicker 2011)
     bool usesPhotons() const { return surfacePhotons > 0 || volumePhotons > 0; }
@@ -185,6 +188,8 @@ public:
     const RenderConfig& config() const { return config_; }
     const std::vector<BandGroup>& groups() const { return groups_; }
     const Estimator& forGroup(size_t i) const { return *estimators_[i]; }
+    // The photon maps of band group i (nullptr when the estimator uses none).
+    const PhotonMaps* photonMaps(size_t i) const { return i < maps_.size() ? maps_[i].get() : nullptr; }
     size_t size() const { return estimators_.size(); }
     int pass() const { return pass_; }
 

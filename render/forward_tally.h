@@ -44,6 +44,9 @@ namespace littoral::render {
 
 // "" if the scene is horizontally invariant (above); otherwise why not, naming the element.
 std::string horizontalInvarianceProblem(const ir::SceneIR& ir);
+// The heights of the horizontal faces of a horizontally invariant scene, ascending and distinct
+// (false, and nothing written, if the scene is not invariant).
+bool horizontalFacePlanes(const ir::SceneIR& ir, std::vector<double>* planes);
 
 // The forward tallies of every probe quantity they answer. Empty when render.probe_photons is 0,
 // the estimator is not `path`, the scene is not horizontally invariant or no probe asks for an
@@ -62,22 +65,18 @@ struct ForwardTallyRun {
     std::vector<std::pair<double, double>> profile;
 };
 
-class ForwardTallies {
+// The answered values: find() and answered() (ProbeAnswers, render/probes.h).
+class ForwardTallies : public ProbeAnswers {
 public:
     ForwardTallies() = default;
     ForwardTallies(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts,
                    const ForwardTallyRun& run = {});
-    // The (probe index, quantity) pairs answered, in order.
-    std::vector<std::pair<int, std::string>> answered() const;
-    // The value of quantity `q` of probe `index` (into ir.probes), or nullptr.
-    const ProbeValue* find(int index, const std::string& q) const;
     // At every plane traced (z, E): the weakest band-mean irradiance asked there (Ed, Eu, Eod or
     // Eou; Eod + Eou where only Lu is), what a pilot hands to the full run as
     // ForwardTallyRun::profile.
     const std::vector<std::pair<double, double>>& profile() const { return profile_; }
 
 private:
-    std::map<std::pair<int, std::string>, ProbeValue> values_;
     std::vector<std::pair<double, double>> profile_;
 };
 

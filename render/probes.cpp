@@ -23,6 +23,7 @@
 #include "core/units.h"
 #include "render/distributed.h"
 #include "render/forward_tally.h"
+#include "render/volume_map_probes.h"
 #include "render/sampling.h"
 
 namespace littoral::render {
@@ -476,22 +477,33 @@ void warnAboutHeavyTailedLu(int count, const std::string& first, ir::Estimator e
 
 }  // namespace
 
+const ProbeValue* ProbeAnswers::find(int index, const std::string& q) const {
+    const auto it = values_.find({index, q});
+    return it == values_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::pair<int, std::string>> ProbeAnswers::answered() const {
+    std::vector<std::pair<int, std::string>> keys;
+    for (const auto& [key, v] : values_) keys.push_back(key);
+    return keys;
+}
+
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
-                                      int probeIndex, const RenderOptions& opts, const ForwardTallies* forward) {
+                                      int probeIndex, const RenderOptions& opts, const ProbeAnswers* answers) {
     const RenderConfig& cfg = estimators.config();
     checkProbe(scene, cfg, probe);
     const int B = cfg.probeBatches;
     const int N = probe.samples.value_or(cfg.probeSamples);
     const int chunksPerBatch = (N / B + 1023) / 1024;
     size_t backward = 0;  // the quantities this call traces
-    for (const std::string& q : probe.quantities) backward += !(forward && forward->find(probeIndex, q));
+    for (const std::string& q : probe.quantities) backward += !(answers && answers->find(probeIndex, q));
     std::unique_ptr<Progress> progress;
     const uint64_t totalChunks = static_cast<uint64_t>(chunksPerBatch) * B * backward * estimators.size();
     if (opts.progress && totalChunks > 64)
         progress = std::make_unique<Progress>(fmt::format("probe {}", probe.name), totalChunks, "chunks");
     std::vector<ProbeValue> out;
     for (size_t qi = 0; qi < probe.quantities.size(); ++qi) {
-        if (const ProbeValue* f = forward ? forward->find(probeIndex, probe.quantities[qi]) : nullptr) {
+        if (const ProbeValue* f = answers ? answers->find(probeIndex, probe.quantities[qi]) : nullptr) {
             out.push_back(*f);
             continue;
         }
@@ -505,7 +517,9 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
 std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
     ForwardTallyRun run;
     run.only = chooseForward(scene, estimators, opts, &run.profile);
-    const ForwardTallies forward = run.only.empty() ? ForwardTallies() : ForwardTallies(scene, estimators, opts, run);
+    // The path estimator's forward tallies, or the dirsig estimator's volume-map collisions.
+    const ProbeAnswers answers = !run.only.empty() ? ProbeAnswers(ForwardTallies(scene, estimators, opts, run))
+                                                   : volumeMapCollisions(scene, estimators);
     std::vector<ProbeValue> out;
     const auto& probes = scene.ir().probes;
     const RenderConfig& cfg = estimators.config();
@@ -513,7 +527,7 @@ std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& e
     int heavy = 0;  // Lu values answered in a heavy-tailed way (warned about once)
     std::string first;
     for (size_t i = 0; i < probes.size(); ++i) {
-        auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &forward);
+        auto v = evaluateProbe(scene, estimators, probes[i], static_cast<int>(i), opts, &answers);
         for (const ProbeValue& pv : v) {
             if (!warn || pv.quantity != "Lu" || pv.method != "backward") continue;
             const double albedo = heavyTailedLuAlbedo(scene, cfg, probes[i]);

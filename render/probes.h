@@ -20,7 +20,9 @@
 // (s / sqrt(N) over stratified samples would overstate the error, over correlated ones understate
 // it). Results are identical for any thread count.
 #include <cstdint>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/kinds.h"
@@ -39,10 +41,26 @@ struct ProbeValue {
     std::vector<double> mean, stderr_;  // per render band
     int64_t samples = 0;                // sample paths, or photons for the forward tallies
     int batches = 0;
-    std::string method = "backward";    // "backward" (paths from the probe) or "forward" (render/forward_tally.h)
+    // "backward" (paths from the probe, or the photon maps' gather along them), "forward"
+    // (render/forward_tally.h) or "collisions" (render/volume_map_probes.h)
+    std::string method = "backward";
 };
 
-class ForwardTallies;
+// Probe values answered before any backward path is traced, by (index into ir.probes, quantity):
+// the path estimator's forward tallies (render/forward_tally.h) and the dirsig estimator's
+// collision estimates from the volume photon map (render/volume_map_probes.h).
+class ProbeAnswers {
+public:
+    // The value of quantity `q` of probe `index`, or nullptr.
+    const ProbeValue* find(int index, const std::string& q) const;
+    // The (probe index, quantity) pairs answered, in order.
+    std::vector<std::pair<int, std::string>> answered() const;
+    bool empty() const { return values_.empty(); }
+    void set(int index, const std::string& q, ProbeValue v) { values_[{index, q}] = std::move(v); }
+
+private:
+    std::map<std::pair<int, std::string>, ProbeValue> values_;
+};
 
 // The checks evaluateProbe makes before sampling: the probe's medium exists, the probe is not
 // inside an opaque object, and its samples form render.probe_batches batches. InputError.
@@ -50,12 +68,13 @@ void checkProbe(const Scene& scene, const RenderConfig& cfg, const ir::Probe& pr
 
 // Evaluates every quantity of one probe. InputError for an unknown quantity, an unknown medium or
 // a probe inside a closed opaque object.
-// With `forward`, the quantities it answers are taken from it (render/forward_tally.h).
+// With `answers`, the quantities it holds are taken from it (the forward tallies, the volume map's
+// collisions).
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& estimators, const ir::Probe& probe,
                                       int probeIndex, const RenderOptions& opts = {},
-                                      const ForwardTallies* forward = nullptr);
-// Every probe of the scene, in order: the forward tallies where they apply, backward paths for the
-// rest.
+                                      const ProbeAnswers* answers = nullptr);
+// Every probe of the scene, in order: the forward tallies (path) or the volume map's collisions
+// (dirsig) where they apply, backward paths for the rest.
 std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts = {});
 // Convenience: builds the estimators of `scene` for this one call.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,

@@ -1,0 +1,45 @@
+#pragma once
+// The irradiance probes of a horizontally invariant scene answered from the volume photon map's
+// collisions (the dirsig estimator; render.photons.probe_collisions, on by default; docs/rendering.md,
+// "Probes from the volume map's collisions").
+//
+// The volume map records a photon at each scattering event it stores, with its power and its
+// direction before the event, at the rate b_s L(x, w) per unit volume and solid angle (b_s the
+// scattering coefficient that stores: b, or b (1 - f) with effective scattering). Over a volume V,
+//   (1 / V) sum_i Phi_i g(d_i) / b_s(x_i)   estimates   the mean over V of Int L(w) g(w) dw,
+// which is Eod for g = 1 on downward directions, Ed for g = |mu| there, and Eou and Eu upward. It is
+// the collision estimator of transport theory: no phase function and no search radius enter it, so
+// it has none of the gather's heavy tail in forward-peaked water (a few upward photons near a view
+// direction carrying Eou).
+//
+// In a horizontally invariant scene (forward_tally.h) the light depends on depth alone, so V is the
+// slab |z - z_p| <= h across the domain (area A), V = 2 h A, and the estimate is the slab's mean of
+// the profile: E(z_p) (1 + h^2 / 6 E''/E) to second order (E''/E = K^2 for a profile falling as
+// e^(-K z): 0.2 % at K = 0.23 m^-1 and h = 0.5 m; none for a linear one, as near a black bottom),
+// the kernel bias every photon-map estimate has at its radius.
+//   h = min(kSlabRadii x the first pass's volume search radius, the distance from the probe to the
+//       nearest horizontal face and to the nearest boundary between its medium's layers);
+// where that is below one search radius, the probe keeps the gather along directions.
+//
+// Each value's standard error is the spread of the progressive passes (each traces its own map), so
+// this applies only to runs of at least two passes; the records of one photon's walk are
+// correlated, and within one map there is no batch to see it.
+//
+// The records in a slab number about 2 h b_s A Eo per unit of the photons' flux, so the estimate
+// needs water that scatters: in clear water (b_s of a few 0.01 m^-1) the gather, which sums the
+// records along metres of each view ray, does better. Hence off by default.
+#include "render/estimator.h"
+#include "render/probes.h"
+#include "render/scene.h"
+
+namespace littoral::render {
+
+// Slab half-thickness, in first-pass volume search radii (0.5 m at the columns' 0.1 m).
+inline constexpr double kSlabRadii = 5.0;
+
+// The values of Ed, Eu, Eod and Eou this applies to (above), from `estimators`' volume maps;
+// empty unless the estimator is dirsig with render.photons.probe_collisions, at least two
+// progressive passes and a horizontally invariant scene.
+ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimators);
+
+}  // namespace littoral::render
