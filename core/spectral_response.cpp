@@ -25,7 +25,7 @@ void support(const ResponseSpec& r, double* a, double* b) {
 
 // int_l^h R(x) dx, exact for each kind (a table is linear between its samples).
 double integral(const ResponseSpec& r, double l, double h) {
-    double a, b;
+    double a = 0, b = 0;
     support(r, &a, &b);
     l = std::max(l, a), h = std::min(h, b);
     if (!(h > l)) return 0.0;
@@ -99,7 +99,7 @@ ResponseGrid responseGrid(const std::vector<ResponseSpec>& specs) {
     double step = kMaxSubBandUm;
     std::set<double> breaks;
     for (const ResponseSpec& r : specs) {
-        double a, b;
+        double a = 0, b = 0;
         support(r, &a, &b);
         breaks.insert(a), breaks.insert(b);
         if (r.kind == ResponseSpec::Kind::Gaussian) step = std::min(step, r.fwhm / 4);
@@ -111,7 +111,7 @@ ResponseGrid responseGrid(const std::vector<ResponseSpec>& specs) {
         const double l = edges[k], h = edges[k + 1], mid = 0.5 * (l + h);
         bool covered = false;
         for (const ResponseSpec& r : specs) {
-            double a, b;
+            double a = 0, b = 0;
             support(r, &a, &b);
             covered = covered || (mid > a && mid < b);
         }

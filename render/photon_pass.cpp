@@ -176,7 +176,9 @@ void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImporta
 
 void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const {
     Pending pending;  // allocates only when a photon splits
-    walkFrom(State{ray, w}, rng, out, observer, pending);
+    State first;
+    first.ray = ray, first.w = w;
+    walkFrom(first, rng, out, observer, pending);
     while (!pending.empty()) {
         const State s = pending.back();
         pending.pop_back();
