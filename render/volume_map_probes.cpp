@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "core/log.h"
 #include "render/forward_tally.h"
 #include "render/photon_pass.h"
 
@@ -96,7 +97,13 @@ ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimat
         return answers;
     std::vector<std::vector<int>> asked;
     std::vector<Slab> slabs = slabsOf(scene, cfg, faces, &asked);
-    if (slabs.empty()) return answers;
+    if (slabs.empty()) {
+        // Set, but nothing for it to do: said once, not silently ignored.
+        log::warnOnce("render.photons.probe_collisions is set, but no probe value can be answered from the volume "
+                      "map's collisions (Ed, Eu, Eod or Eou of a probe in water that keeps a volume map, at least one "
+                      "volume search radius from a horizontal face or layer boundary): every probe value is gathered");
+        return answers;
+    }
     const int nb = scene.bandCount();
     for (Slab& s : slabs) s.s0.assign(nb, {});
     int64_t records = 0;

@@ -67,6 +67,26 @@ TEST(PhotonMapColumns, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
         << output;
 }
 
+// photons.probe_collisions with no probe it can answer (every probe within a search radius of the
+// surface, where no slab fits) says so once and gathers every value.
+TEST(PhotonMapColumns, CollisionsWithNothingToAnswerSaySo) {
+    std::stringstream original;
+    original << std::ifstream(sceneFile("mobley1993/problem5_photon_maps.yaml")).rdbuf();
+    std::string text = replacedOnce(replacedOnce(original.str(), "volume: 250000", "volume: 20000"), "passes: 10", "passes: 2");
+    text = replacedOnce(replacedOnce(replacedOnce(text, "[0, 0, -1]", "[0, 0, -0.05]"), "[0, 0, -5]", "[0, 0, -0.06]"),
+                        "[0, 0, -10]", "[0, 0, -0.07]");
+    for (size_t at = text.find("samples: 320"); at != std::string::npos; at = text.find("samples: 320"))
+        text.replace(at, 12, "samples: 16");
+    const fs::path dir = scratchDir("pipelines", "photon_map_columns_collisions_nothing_scene");
+    const fs::path scene = writeTextFile(dir, "near_surface.yaml", text);
+    std::string output;
+    const ProbeTable p = runScene("collisions_nothing", scene, &output);
+    EXPECT_NE(output.find("render.photons.probe_collisions is set, but no probe value can be answered"), std::string::npos)
+        << output;
+    for (const auto& [probe, cells] : p)
+        for (const auto& [q, cell] : cells) EXPECT_EQ(cell.method, "backward") << probe << " " << q;
+}
+
 // The stratified column with photon maps split by depth (photons.depth_splitting): Ed and Eou from
 // 5 to 59 m, where Eou falls by 3 x 10^3 (measured: within 0.1-2.2 se; se 0.4-2.1 % in Ed, 0.9-3.1 %
 // in Eou; unsplit, Eou at 59 m had 13-25 %). The probe at 25 m lies on the boundary between the
