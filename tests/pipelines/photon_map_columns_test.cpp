@@ -39,6 +39,17 @@ ProbeTable runScene(const std::string& name, const fs::path& scene, std::string*
     return readProbeTable(dir / "out");
 }
 
+// The text of a shipped photon-map column scene with small maps: 2 passes of 20 000 volume photons
+// and 16 directions per probe (for tests of what changes, not of the values' accuracy).
+std::string withSmallMaps(const std::string& rel) {
+    std::stringstream original;
+    original << std::ifstream(sceneFile(rel)).rdbuf();
+    std::string text = replacedOnce(replacedOnce(original.str(), "volume: 250000", "volume: 20000"), "passes: 10", "passes: 2");
+    for (size_t at = text.find("samples: 320"); at != std::string::npos; at = text.find("samples: 320"))
+        text.replace(at, 12, "samples: 16");
+    return text;
+}
+
 }  // namespace
 
 // Problem 5 with photon maps: Ed and Eou at tau 1, 5 and 10, from the volume map's collisions in a
@@ -70,13 +81,9 @@ TEST(PhotonMapColumns, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
 // photons.probe_collisions with no probe it can answer (every probe within a search radius of the
 // surface, where no slab fits) says so once and gathers every value.
 TEST(PhotonMapColumns, CollisionsWithNothingToAnswerSaySo) {
-    std::stringstream original;
-    original << std::ifstream(sceneFile("mobley1993/problem5_photon_maps.yaml")).rdbuf();
-    std::string text = replacedOnce(replacedOnce(original.str(), "volume: 250000", "volume: 20000"), "passes: 10", "passes: 2");
+    std::string text = withSmallMaps("mobley1993/problem5_photon_maps.yaml");
     text = replacedOnce(replacedOnce(replacedOnce(text, "[0, 0, -1]", "[0, 0, -0.05]"), "[0, 0, -5]", "[0, 0, -0.06]"),
                         "[0, 0, -10]", "[0, 0, -0.07]");
-    for (size_t at = text.find("samples: 320"); at != std::string::npos; at = text.find("samples: 320"))
-        text.replace(at, 12, "samples: 16");
     const fs::path dir = scratchDir("pipelines", "photon_map_columns_collisions_nothing_scene");
     const fs::path scene = writeTextFile(dir, "near_surface.yaml", text);
     std::string output;
@@ -108,11 +115,7 @@ TEST(PhotonMapColumns, StratifiedColumnSplitByDepthAgreesWithTheColumnSolver) {
 // (checked at each step's start, so that a 2 m step reaches past it by up to 2 m): at most 6e-6 of
 // the in-scatter counted before it where the water is uniform. Allowed: 1e-5 of each value.
 TEST(PhotonMapColumns, TheGatherStepChangesOnlyTheTime) {
-    std::stringstream original;
-    original << std::ifstream(sceneFile("columns/stratified_60m_photon_maps.yaml")).rdbuf();
-    std::string text = replacedOnce(replacedOnce(original.str(), "volume: 250000", "volume: 20000"), "passes: 10", "passes: 2");
-    for (size_t at = text.find("samples: 320"); at != std::string::npos; at = text.find("samples: 320"))
-        text.replace(at, 12, "samples: 16");
+    const std::string text = withSmallMaps("columns/stratified_60m_photon_maps.yaml");
     ASSERT_EQ(text.find("march_step_m"), std::string::npos);  // the default: 20 radii
     const fs::path dir = scratchDir("pipelines", "photon_map_columns_gather_step");
     const std::string shortStep = "  march_step_m: 0.07\n";
