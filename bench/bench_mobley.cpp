@@ -17,8 +17,8 @@
 // backward and heavy-tailed, docs/rendering.md); the column solver's own time (8 streams, mode 0)
 // is reported beside it. The photon maps are not run here: on these columns they need minutes.
 //
-// Part 3 (benchPhotonMapColumns below): the photon maps on problem 5 and the stratified column, at
-// their tests' settings.
+// Part 3 (benchPhotonMapColumns below): the photon maps on problems 2 and 5 and the stratified
+// column, at their tests' settings.
 //
 // Usage: bench_mobley [SOURCE_DIR] [--columns-only | --photon-maps-only]   (default: the source tree
 // this binary was configured from; with neither flag, all three parts)
@@ -145,7 +145,10 @@ void benchColumns(const fs::path& src) {
             double t = 0;
             int passing = 0, cells = 0;
             std::string failing;  // each failing cell: its se, and its distance from the column in se
-            for (const auto& v : timedProbes(ir, irDir, &t, render::evaluateProbes)) {
+            const auto probes = [](const auto& sc, const auto& est, const auto& ro) {
+                return render::evaluateProbes(sc, est, ro);
+            };
+            for (const auto& v : timedProbes(ir, irDir, &t, probes)) {
                 const auto [ref, conv] = reference.at(col, v);
                 const bool ok = std::abs(v.mean[0] - ref) <= 3 * v.stderr_[0] + conv && v.stderr_[0] <= 0.01 * v.mean[0];
                 passing += ok;
@@ -165,15 +168,17 @@ void benchColumns(const fs::path& src) {
     }
 }
 
-// Part 3 (issue 19): the photon maps on the hard columns, at the settings their tests use
-// (data_synthetic/*_photon_maps.yaml: r = 0.1 m, 10 progressive passes of 250 000 volume photons,
-// 320 directions per probe), run as `littoral run` renders them (render::runRenderJob, all cores).
+// Part 3 (issue 19): the photon maps on the hard columns (problems 2 and 5, the stratified column),
+// at the settings their tests use (data_synthetic/*_photon_maps.yaml: r = 0.1 m, 10 progressive
+// passes of 250 000 volume photons, 320-1280 directions per gathered probe), run as `littoral run`
+// renders them (render::runRenderJob, all cores).
 // Printed: the wall time, the largest standard error over the mean among the Ed and Eou cells,
 // the largest distance from the column solver in (standard error + its 8-to-16-stream change),
 // and the time that the largest error would need to reach 1 % (the time x (se / 1 %)^2: the passes
 // are independent, so the error falls as one over their square root).
 void benchPhotonMapColumns(const fs::path& src) {
     const Column columns[] = {
+        {"mobley1993/problem2_photon_maps.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
         {"mobley1993/problem5_photon_maps.yaml", {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}}},
         {"columns/stratified_60m_photon_maps.yaml", {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}}},
     };

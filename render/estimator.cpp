@@ -406,30 +406,36 @@ std::unique_ptr<Estimator> Estimator::create(const Scene& scene, const RenderCon
     throw InternalError("unknown estimator");
 }
 
+PhotonPassSettings photonPassSettings(const Scene& scene, const RenderConfig& config, BandGroup g, int pass, int threads,
+                                      bool progress, uint64_t maxPhotonsEmitted) {
+    PhotonPassSettings ps;
+    ps.surfaceTarget = config.surfacePhotons;
+    ps.volumeTarget = config.volumePhotons;
+    ps.maxBounces = config.photonMaxBounces;
+    ps.maxSpecularDepth = config.photonMaxSpecularDepth;
+    ps.effectiveScattering = config.effectiveScattering;
+    ps.importance = config.photonImportance;
+    ps.seed = scene.ir().render.seed;
+    ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);
+    ps.surfaceRadius = config.radiusAt(config.surfaceRadius, pass);
+    ps.volumeRadius = config.radiusAt(config.volumeRadius, pass);
+    ps.threads = threads;
+    ps.progress = progress;
+    ps.maxEmitted = maxPhotonsEmitted;
+    ps.volumeMedium.assign(scene.media().size(), false);
+    for (size_t m = 0; m < config.mediumPM.size(); ++m) ps.volumeMedium[m + 1] = config.mediumPM[m];
+    for (size_t m = 0; m < config.solvers.size(); ++m)
+        ps.surfaceMaterial.push_back(config.solvers[m] == ir::Material::Solver::SurfacePM);
+    if (config.depthSplitting && ps.volumeTarget > 0) ps.depthImportance = volumeDepthImportance(scene, g, ps);
+    return ps;
+}
+
 EstimatorSet::EstimatorSet(const Scene& scene, int pass, int threads, bool progress, uint64_t maxPhotonsEmitted)
     : config_(makeRenderConfig(scene.ir())), groups_(bandGroups(scene)), pass_(pass) {
     for (const BandGroup& g : groups_) {
         const PhotonMaps* maps = nullptr;
         if (config_.usesPhotons()) {
-            PhotonPassSettings ps;
-            ps.surfaceTarget = config_.surfacePhotons;
-            ps.volumeTarget = config_.volumePhotons;
-            ps.maxBounces = config_.photonMaxBounces;
-            ps.maxSpecularDepth = config_.photonMaxSpecularDepth;
-            ps.effectiveScattering = config_.effectiveScattering;
-            ps.importance = config_.photonImportance;
-            ps.seed = scene.ir().render.seed;
-            ps.pass = static_cast<uint64_t>(pass) * 64 + static_cast<uint64_t>(g.begin);
-            ps.surfaceRadius = config_.radiusAt(config_.surfaceRadius, pass);
-            ps.volumeRadius = config_.radiusAt(config_.volumeRadius, pass);
-            ps.threads = threads;
-            ps.progress = progress;
-            ps.maxEmitted = maxPhotonsEmitted;
-            ps.volumeMedium.assign(scene.media().size(), false);
-            for (size_t m = 0; m < config_.mediumPM.size(); ++m) ps.volumeMedium[m + 1] = config_.mediumPM[m];
-            for (size_t m = 0; m < config_.solvers.size(); ++m)
-                ps.surfaceMaterial.push_back(config_.solvers[m] == ir::Material::Solver::SurfacePM);
-            if (config_.depthSplitting && ps.volumeTarget > 0) ps.depthImportance = volumeDepthImportance(scene, g, ps);
+            const PhotonPassSettings ps = photonPassSettings(scene, config_, g, pass, threads, progress, maxPhotonsEmitted);
             maps_.push_back(std::make_unique<PhotonMaps>(tracePhotons(scene, g, ps)));
             maps = maps_.back().get();
         }

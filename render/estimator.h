@@ -92,6 +92,7 @@ RenderConfig makeRenderConfig(const ir::SceneIR& ir);
 std::vector<BandGroup> bandGroups(const Scene& scene);
 
 struct PhotonMaps;
+struct PhotonPassSettings;
 
 // The radiance of a sensor ray in the air split by where it first meets the sea surface (the
 // interface between the air and the water medium; render/water_products.cpp):
@@ -177,6 +178,12 @@ protected:
 
 // The estimators of one render: the resolved settings and one estimator per band group, built once
 // and shared by every sensor and probe.
+// The photon pass of band group g's maps in progressive pass `pass` (1-based): the render's
+// photon settings, random streams keyed by the pass and the group, the pass's radii, and the
+// depth splitting's pilot when render.photons.depth_splitting is set.
+PhotonPassSettings photonPassSettings(const Scene& scene, const RenderConfig& config, BandGroup g, int pass, int threads,
+                                      bool progress, uint64_t maxPhotonsEmitted);
+
 class EstimatorSet {
 public:
     // For progressive photon mapping, pass p (1-based) traces its own photon maps (random streams

@@ -514,12 +514,14 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
     return out;
 }
 
-std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts) {
+std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts,
+                                       const CollisionPlan* collisions) {
     ForwardTallyRun run;
     run.only = chooseForward(scene, estimators, opts, &run.profile);
     // The path estimator's forward tallies, or the dirsig estimator's volume-map collisions.
     const ProbeAnswers answers = !run.only.empty() ? ProbeAnswers(ForwardTallies(scene, estimators, opts, run))
-                                                   : volumeMapCollisions(scene, estimators);
+                                 : collisions      ? volumeMapCollisions(scene, estimators, *collisions)
+                                                   : ProbeAnswers();
     std::vector<ProbeValue> out;
     const auto& probes = scene.ir().probes;
     const RenderConfig& cfg = estimators.config();

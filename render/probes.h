@@ -75,7 +75,11 @@ std::vector<ProbeValue> evaluateProbe(const Scene& scene, const EstimatorSet& es
                                       const ProbeAnswers* answers = nullptr);
 // Every probe of the scene, in order: the forward tallies (path) or the volume map's collisions
 // (dirsig) where they apply, backward paths for the rest.
-std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts = {});
+struct CollisionPlan;
+// `collisions`: the values the volume map's collisions answer (planCollisions,
+// render/volume_map_probes.h), computed once per run; none when nullptr.
+std::vector<ProbeValue> evaluateProbes(const Scene& scene, const EstimatorSet& estimators, const RenderOptions& opts = {},
+                                       const CollisionPlan* collisions = nullptr);
 // Convenience: builds the estimators of `scene` for this one call.
 std::vector<ProbeValue> evaluateProbe(const Scene& scene, const ir::Probe& probe, int probeIndex,
                                       const RenderOptions& opts = {});

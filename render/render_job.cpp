@@ -17,6 +17,7 @@
 #include "render/estimator.h"
 #include "render/forward_tally.h"
 #include "render/probes.h"
+#include "render/volume_map_probes.h"
 #include "render/image_output.h"
 #include "render/progressive_checkpoint.h"
 #include "render/tile_checkpoint.h"
@@ -388,6 +389,8 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
         first = state.passesDone + 1;
         log::info("resuming after pass {} of {}", state.passesDone, passes);
     }
+    // The probe values the volume map's collisions answer, chosen once for every pass by a pilot.
+    const CollisionPlan collisions = probesToo ? planCollisions(scene, ro.threads) : CollisionPlan{};
     for (int pass = first; pass <= passes; ++pass) {
         // One estimator per band group (and its photon maps), shared by every sensor and probe.
         const EstimatorSet estimators(scene, pass, ro.threads, opts.progress, opts.maxPhotonsEmitted);
@@ -397,7 +400,7 @@ RenderJobResult runRenderJob(const ir::SceneIR& ir, const std::filesystem::path&
             images.push_back(renderSensor(scene, estimators, *sensors[k], ro));
         }
         std::vector<ProbeValue> probes;
-        if (probesToo) probes = evaluateProbes(scene, estimators, ro);
+        if (probesToo) probes = evaluateProbes(scene, estimators, ro, &collisions);
         accumulate(state, images, probes);
         if (passes > 1) {
             if (opts.progress) log::info("progressive pass {} of {} done", pass, passes);  // progress: not under --quiet

@@ -28,6 +28,10 @@
 // The records in a slab number about 2 h b_s A Eo per unit of the photons' flux, so the estimate
 // needs water that scatters: in clear water (b_s of a few 0.01 m^-1) the gather, which sums the
 // records along metres of each view ray, does better. Hence off by default.
+#include <set>
+#include <string>
+#include <utility>
+
 #include "render/estimator.h"
 #include "render/probes.h"
 #include "render/scene.h"
@@ -37,9 +41,29 @@ namespace littoral::render {
 // Slab half-thickness, in first-pass volume search radii (0.5 m at the columns' 0.1 m).
 inline constexpr double kSlabRadii = 5.0;
 
-// The values of Ed, Eu, Eod and Eou this applies to (above), from `estimators`' volume maps;
-// empty unless the estimator is dirsig with render.photons.probe_collisions, at least two
-// progressive passes and a horizontally invariant scene.
-ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimators);
+// Which values the collisions answer. A pilot map (a quarter of a pass's volume photons, on random
+// streams of its own, so the choice does not depend on the passes it chooses for) predicts each
+// value's relative error in one pass from the spread of its records' contributions x_i:
+//   se = kRecordCorrelation sqrt(sum x_i^2) / sum x_i,  scaled to a pass's photons;
+// the collisions answer where that is at most kCollisionTrustedSe, the gather elsewhere. The
+// records of one photon's walk are correlated (and depth splitting's copies share a history), so
+// the records' spread understates a pass's: kRecordCorrelation is the ratio measured on the
+// stratified column (docs/rendering.md). The gather's error in a pass was 1-10 % on the columns
+// measured; the collisions cost almost nothing beside it, so they answer where their error in a
+// pass is 5 % or less (1.6 % over 10 passes).
+inline constexpr double kRecordCorrelation = 1.6;
+inline constexpr double kCollisionTrustedSe = 0.05;
+
+struct CollisionPlan {
+    std::set<std::pair<int, std::string>> values;  // (probe index, quantity)
+};
+
+// The plan of a run (above): empty unless the estimator is dirsig with
+// render.photons.probe_collisions, at least two progressive passes and a horizontally invariant
+// scene. The same for every pass, thread count and rank (the pilot's streams are its own).
+CollisionPlan planCollisions(const Scene& scene, int threads);
+
+// The values of Ed, Eu, Eod and Eou in `plan`, from `estimators`' volume maps.
+ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimators, const CollisionPlan& plan);
 
 }  // namespace littoral::render
