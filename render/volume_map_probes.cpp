@@ -20,13 +20,13 @@ namespace {
 enum Tally { kEd, kEu, kEod, kEou, kTallies };
 constexpr std::array<const char*, kTallies> kNames = {"Ed", "Eu", "Eod", "Eou"};
 
-// One probe's slab: its centre, half-thickness and medium, and (per band, per tally) the sums of
-// x = Phi g / b_s and of x^2 over the records in it.
+// One value's slab: its probe and tally, centre, half-thickness and medium, and per band the sums
+// of x = Phi g / b_s, of x^2 and of x (z - z_p) over the records in it.
 struct Slab {
-    int probe;
+    int probe, tally;
     double z, h;
     int medium;
-    std::vector<std::array<double, kTallies>> s0, s1;  // [band][tally]
+    std::vector<double> s0, s1, sz;  // [band]
 };
 
 // The slab half-thickness for a probe at z in medium md between the scene's horizontal faces
@@ -40,9 +40,15 @@ double slabHalfThickness(const Medium& md, const std::vector<double>& faces, dou
     return h >= radius ? h : 0.0;
 }
 
-// The slabs of every probe quantity this answers (quantities in `asked`).
-std::vector<Slab> slabsOf(const Scene& scene, const RenderConfig& cfg, const std::vector<double>& faces,
-                          std::vector<std::vector<int>>* asked) {
+// The index of tally `q`, or -1.
+int tallyOf(const std::string& q) {
+    for (int t = 0; t < kTallies; ++t)
+        if (q == kNames[static_cast<size_t>(t)]) return t;
+    return -1;
+}
+
+// The slab of every probe value this could answer, at its largest half-thickness.
+std::vector<Slab> candidateSlabs(const Scene& scene, const RenderConfig& cfg, const std::vector<double>& faces) {
     std::vector<Slab> slabs;
     const auto& probes = scene.ir().probes;
     for (size_t i = 0; i < probes.size(); ++i) {
@@ -51,57 +57,45 @@ std::vector<Slab> slabsOf(const Scene& scene, const RenderConfig& cfg, const std
         if (m <= 0 || static_cast<size_t>(m - 1) >= cfg.mediumPM.size() || !cfg.mediumPM[static_cast<size_t>(m - 1)])
             continue;
         const Medium& md = scene.media()[static_cast<size_t>(m)];
-        if (!md.scattering()) continue;
-        std::vector<int> tallies;
-        for (const std::string& q : p.quantities)
-            for (int t = 0; t < kTallies; ++t)
-                if (q == kNames[static_cast<size_t>(t)]) tallies.push_back(t);
         const double h = slabHalfThickness(md, faces, p.position.z, cfg.volumeRadius);
-        if (tallies.empty() || h <= 0) continue;
-        slabs.push_back({static_cast<int>(i), p.position.z, h, m, {}, {}});
-        asked->push_back(tallies);
+        if (!md.scattering() || h <= 0) continue;
+        for (const std::string& q : p.quantities)
+            if (const int t = tallyOf(q); t >= 0) slabs.push_back({static_cast<int>(i), t, p.position.z, h, m, {}, {}, {}});
     }
     return slabs;
 }
 
-// Adds the volume map's records to the slabs' sums (bands of group g; s0 sized to every band).
+// Adds the volume map's records to the slabs' sums (bands of group g).
 void addRecords(const Scene& scene, const RenderConfig& cfg, const PhotonMap& vm, BandGroup g, std::vector<Slab>* slabs) {
     for (size_t i = 0; i < vm.size(); ++i) {
         const double z = vm.position(i).z;
         for (Slab& s : *slabs) {
             if (!(std::abs(z - s.z) <= s.h)) continue;
+            const double mu = vm.direction(i).z;
+            const bool down = s.tally == kEd || s.tally == kEod;
+            if (down ? !(mu < 0) : !(mu > 0)) continue;
+            const double gmu = s.tally == kEd || s.tally == kEu ? std::abs(mu) : 1.0;
             const Medium& md = scene.media()[static_cast<size_t>(s.medium)];
             const MediumLayer& l = md.layers()[static_cast<size_t>(md.layerAt(z))];
-            const double mu = vm.direction(i).z;
             for (int b = 0; b < g.count; ++b) {
-                const int band = g.begin + b;
+                const size_t band = static_cast<size_t>(g.begin + b);
                 const double bs = cfg.effectiveScattering ? l.cEff[band] - l.a[band] : l.b[band];
                 if (!(bs > 0)) continue;
-                const double x = static_cast<double>(vm.power(i, b)) * vm.fluxScale[b] / bs;
-                std::array<double, kTallies> gx{};
-                if (mu < 0) gx[kEd] = -mu * x, gx[kEod] = x;
-                if (mu > 0) gx[kEu] = mu * x, gx[kEou] = x;
-                for (int t = 0; t < kTallies; ++t) s.s0[band][t] += gx[t], s.s1[band][t] += gx[t] * gx[t];
+                const double x = gmu * static_cast<double>(vm.power(i, b)) * vm.fluxScale[b] / bs;
+                s.s0[band] += x, s.s1[band] += x * x, s.sz[band] += x * (z - s.z);
             }
         }
     }
 }
 
-// The slabs of the run's probes with their sums over the volume maps of `maps` (one per band
-// group, nullptr where a group has none); *asked receives each slab's tallies. Empty, with a
-// warning, when no probe value qualifies.
-std::vector<Slab> slabSums(const Scene& scene, const RenderConfig& cfg, const std::vector<const PhotonMap*>& maps,
-                           const std::vector<BandGroup>& groups, std::vector<std::vector<int>>* asked) {
-    std::vector<double> faces;
-    if (cfg.estimator != ir::Estimator::Dirsig || !cfg.probeCollisions || cfg.passes < 2 || cfg.volumePhotons == 0 ||
-        !horizontalFacePlanes(scene.ir(), &faces))
-        return {};
-    std::vector<Slab> slabs = slabsOf(scene, cfg, faces, asked);
-    const int nb = scene.bandCount();
-    for (Slab& s : slabs) s.s0.assign(nb, {}), s.s1.assign(nb, {});
+// `slabs` with their sums over the volume maps of `maps` (one per band group, nullptr where a
+// group has none).
+void sumSlabs(const Scene& scene, const RenderConfig& cfg, const std::vector<const PhotonMap*>& maps,
+              const std::vector<BandGroup>& groups, std::vector<Slab>* slabs) {
+    const size_t nb = static_cast<size_t>(scene.bandCount());
+    for (Slab& s : *slabs) s.s0.assign(nb, 0.0), s.s1.assign(nb, 0.0), s.sz.assign(nb, 0.0);
     for (size_t gi = 0; gi < maps.size(); ++gi)
-        if (maps[gi]) addRecords(scene, cfg, *maps[gi], groups[gi], &slabs);
-    return slabs;
+        if (maps[gi]) addRecords(scene, cfg, *maps[gi], groups[gi], slabs);
 }
 
 // The pilot's map: a quarter of a pass's volume photons (and no surface map), on random streams of
@@ -109,28 +103,10 @@ std::vector<Slab> slabSums(const Scene& scene, const RenderConfig& cfg, const st
 constexpr uint64_t kCollisionPilotStream = 1ull << 47;
 constexpr uint64_t kCollisionPilotShare = 4;
 
-}  // namespace
-
-CollisionPlan planCollisions(const Scene& scene, int threads) {
-    CollisionPlan plan;
-    const RenderConfig cfg = makeRenderConfig(scene.ir());
-    const std::vector<BandGroup> groups = bandGroups(scene);
-    std::vector<std::vector<int>> asked;
-    std::vector<double> faces;
-    if (cfg.estimator != ir::Estimator::Dirsig || !cfg.probeCollisions || cfg.passes < 2 || cfg.volumePhotons == 0 ||
-        !horizontalFacePlanes(scene.ir(), &faces))
-        return plan;
-    if (slabsOf(scene, cfg, faces, &asked).empty()) {
-        // Set, but nothing for it to do: said once, not silently ignored.
-        log::warnOnce("render.photons.probe_collisions is set, but no probe value can be answered from the volume "
-                      "map's collisions (Ed, Eu, Eod or Eou of a probe in water that keeps a volume map, at least one "
-                      "volume search radius from a horizontal face or layer boundary): every probe value is gathered");
-        return plan;
-    }
-    asked.clear();
+// The pilot's volume maps, one per band group.
+std::vector<PhotonMaps> pilotMaps(const Scene& scene, const RenderConfig& cfg, const std::vector<BandGroup>& groups,
+                                  int threads) {
     std::vector<PhotonMaps> pilots;
-    pilots.reserve(groups.size());
-    std::vector<const PhotonMap*> maps;
     for (const BandGroup& g : groups) {
         RenderConfig c = cfg;
         c.surfacePhotons = 0;
@@ -138,74 +114,107 @@ CollisionPlan planCollisions(const Scene& scene, int threads) {
         PhotonPassSettings ps = photonPassSettings(scene, c, g, 1, threads, false, 0);
         ps.pass = kCollisionPilotStream + static_cast<uint64_t>(g.begin);
         pilots.push_back(tracePhotons(scene, g, ps));
-        maps.push_back(&pilots.back().volume);
     }
-    const std::vector<Slab> slabs = slabSums(scene, cfg, maps, groups, &asked);
+    return pilots;
+}
+
+// One value's choice from its pilot slab `s` (share: the pilot's photons over a pass's): the
+// half-thickness that keeps the estimated kernel bias within kSlabBias, and the predicted relative
+// error of one pass at it (above; infinite where the half-thickness falls below `radius` or no
+// record reached the slab). *why receives the figures, for the log.
+std::pair<double, double> choose(const Slab& s, double share, double radius, std::string* why) {
+    double h = s.h, k = 0, se = 0;
+    for (size_t b = 0; b < s.s0.size(); ++b) {
+        if (!(s.s0[b] > 0)) return {0.0, std::numeric_limits<double>::infinity()};
+        // The records' mean offset from the probe is k h^2 / 3 for a profile e^(k (z - z_p)).
+        k = std::max(k, std::abs(3 * s.sz[b] / s.s0[b]) / (s.h * s.h));
+        se = std::max(se, kRecordCorrelation * std::sqrt(s.s1[b] * share) / s.s0[b]);
+    }
+    if (k * h * k * h / 6 > kSlabBias) h = std::sqrt(6 * kSlabBias) / k;
+    // The records in a slab are about proportional to its thickness.
+    se = h >= radius ? se * std::sqrt(s.h / h) : std::numeric_limits<double>::infinity();
+    *why = fmt::format("the pilot predicts {:.2g} % a pass from the collisions in its slab of +-{:.3g} m; the profile "
+                       "changes as e^({:.2g} m^-1 z) there",
+                       100 * se, h, k);
+    return {h, se};
+}
+
+}  // namespace
+
+CollisionPlan planCollisions(const Scene& scene, int threads) {
+    CollisionPlan plan;
+    const RenderConfig cfg = makeRenderConfig(scene.ir());
+    std::vector<double> faces;
+    if (cfg.estimator != ir::Estimator::Dirsig || !cfg.probeCollisions || cfg.passes < 2 || cfg.volumePhotons == 0 ||
+        !horizontalFacePlanes(scene.ir(), &faces))
+        return plan;
+    std::vector<Slab> slabs = candidateSlabs(scene, cfg, faces);
+    if (slabs.empty()) {
+        // Set, but nothing for it to do: said once, not silently ignored.
+        log::warnOnce("render.photons.probe_collisions is set, but no probe value can be answered from the volume "
+                      "map's collisions (Ed, Eu, Eod or Eou of a probe in water that keeps a volume map, at least one "
+                      "volume search radius from a horizontal face or layer boundary): every probe value is gathered");
+        return plan;
+    }
+    const std::vector<BandGroup> groups = bandGroups(scene);
+    const std::vector<PhotonMaps> pilots = pilotMaps(scene, cfg, groups, threads);
+    std::vector<const PhotonMap*> maps;
+    for (const PhotonMaps& m : pilots) maps.push_back(&m.volume);
+    sumSlabs(scene, cfg, maps, groups, &slabs);
     const double share = static_cast<double>(std::max<uint64_t>(1000, cfg.volumePhotons / kCollisionPilotShare)) /
                          static_cast<double>(cfg.volumePhotons);
-    const auto& probes = scene.ir().probes;
-    int chosen = 0, total = 0;
-    for (size_t k = 0; k < slabs.size(); ++k) {
-        const Slab& s = slabs[k];
-        for (int t : asked[k]) {
-            // The predicted relative error of one pass: the records' own spread, scaled from the
-            // pilot's photons to a pass's, and by kRecordCorrelation for the records one photon's
-            // walk leaves in the slab (worst band).
-            double se = 0;
-            for (size_t b = 0; b < s.s0.size(); ++b) {
-                const double m = s.s0[b][static_cast<size_t>(t)];
-                se = std::max(se, m > 0 ? kRecordCorrelation * std::sqrt(s.s1[b][static_cast<size_t>(t)] * share) / m
-                                        : std::numeric_limits<double>::infinity());
-            }
-            const bool use = se <= kCollisionTrustedSe;
-            ++total;
-            if (use) plan.values.insert({s.probe, kNames[static_cast<size_t>(t)]}), ++chosen;
-            log::debug("probe {} {}: {} (the pilot predicts {:.2g} % a pass from the collisions in its slab of +-{:.3g} m)",
-                       probes[static_cast<size_t>(s.probe)].name, kNames[static_cast<size_t>(t)],
-                       use ? "collisions" : "gather", 100 * se, s.h);
-        }
+    for (const Slab& s : slabs) {
+        std::string why;
+        const auto [h, se] = choose(s, share, cfg.volumeRadius, &why);
+        const bool use = se <= kCollisionTrustedSe;
+        const std::string q = kNames[static_cast<size_t>(s.tally)];
+        if (use) plan.values[{s.probe, q}] = h;
+        log::debug("probe {} {}: {} ({})", scene.ir().probes[static_cast<size_t>(s.probe)].name, q,
+                   use ? "collisions" : "gather", why);
     }
     log::info("probe methods: the volume map's collisions answer {} of the {} probe values they could, the gather the "
-              "rest (the reasons: --verbose; the methods: probes.csv)", chosen, total);
+              "rest (the reasons: --verbose; the methods: probes.csv)",
+              plan.values.size(), slabs.size());
     return plan;
 }
 
 ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimators, const CollisionPlan& plan) {
     ProbeAnswers answers;
+    if (plan.values.empty()) return answers;
     const RenderConfig& cfg = estimators.config();
+    const auto& probes = scene.ir().probes;
+    std::vector<Slab> slabs;
+    for (const auto& [key, h] : plan.values) {
+        const ir::Probe& p = probes[static_cast<size_t>(key.first)];
+        const int m = scene.mediumIndex(p.medium, fmt::format("probe '{}' medium", p.name));
+        slabs.push_back({key.first, tallyOf(key.second), p.position.z, h, m, {}, {}, {}});
+    }
     std::vector<const PhotonMap*> maps;
+    int64_t records = 0;
     for (size_t gi = 0; gi < estimators.size(); ++gi) {
         const PhotonMaps* m = estimators.photonMaps(gi);
         maps.push_back(m ? &m->volume : nullptr);
+        if (m) records = std::max(records, static_cast<int64_t>(m->volume.size()));
     }
-    std::vector<std::vector<int>> asked;
-    const std::vector<Slab> slabs = plan.values.empty() ? std::vector<Slab>{} : slabSums(scene, cfg, maps, estimators.groups(), &asked);
-    int64_t records = 0;
-    for (const PhotonMap* m : maps)
-        if (m) records = std::max(records, static_cast<int64_t>(m->size()));
-    const int nb = scene.bandCount();
+    sumSlabs(scene, cfg, maps, estimators.groups(), &slabs);
     const ir::Domain& d = scene.domain();
     const double area = (d.x1 - d.x0) * (d.y1 - d.y0);
-    for (size_t k = 0; k < slabs.size(); ++k) {
-        const Slab& s = slabs[k];
-        const ir::Probe& p = scene.ir().probes[static_cast<size_t>(s.probe)];
-        for (int t : asked[k]) {
-            if (!plan.values.count({s.probe, kNames[static_cast<size_t>(t)]})) continue;
-            ProbeValue v;
-            v.probe = p.name;
-            v.quantity = kNames[static_cast<size_t>(t)];
-            v.units = "W m^-2 um^-1";
-            v.position = p.position;
-            v.medium = p.medium;
-            v.mean.assign(nb, 0.0);
-            v.stderr_.assign(nb, 0.0);  // the passes' spread replaces it (render_job.cpp)
-            for (int b = 0; b < nb; ++b) v.mean[b] = s.s0[b][t] / (2 * s.h * area);
-            v.samples = records;
-            v.batches = cfg.passes;
-            v.method = "collisions";
-            const std::string q = v.quantity;  // not v's own: v is moved into the call
-            answers.set(s.probe, q, std::move(v));
-        }
+    for (const Slab& s : slabs) {
+        const ir::Probe& p = probes[static_cast<size_t>(s.probe)];
+        ProbeValue v;
+        v.probe = p.name;
+        v.quantity = kNames[static_cast<size_t>(s.tally)];
+        v.units = "W m^-2 um^-1";
+        v.position = p.position;
+        v.medium = p.medium;
+        v.mean.resize(s.s0.size());
+        for (size_t b = 0; b < s.s0.size(); ++b) v.mean[b] = s.s0[b] / (2 * s.h * area);
+        v.stderr_.assign(s.s0.size(), 0.0);  // the passes' spread replaces it (render_job.cpp)
+        v.samples = records;
+        v.batches = cfg.passes;
+        v.method = "collisions";
+        const std::string q = v.quantity;  // not v's own: v is moved into the call
+        answers.set(s.probe, q, std::move(v));
     }
     return answers;
 }

@@ -28,7 +28,7 @@
 // The records in a slab number about 2 h b_s A Eo per unit of the photons' flux, so the estimate
 // needs water that scatters: in clear water (b_s of a few 0.01 m^-1) the gather, which sums the
 // records along metres of each view ray, does better. Hence off by default.
-#include <set>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -54,8 +54,14 @@ inline constexpr double kSlabRadii = 5.0;
 inline constexpr double kRecordCorrelation = 1.6;
 inline constexpr double kCollisionTrustedSe = 0.05;
 
+// The kernel bias a slab may have, (k h)^2 / 6 for a profile e^(k z): where the pilot's records
+// (their mean offset from the probe, k h^2 / 3) put it higher, the slab is thinned to meet it, and
+// where that leaves less than one search radius the value is gathered. A linear profile (near a
+// black bottom) has none, but reads as one of k = E' / E: the thinning errs on the safe side.
+inline constexpr double kSlabBias = 0.005;
+
 struct CollisionPlan {
-    std::set<std::pair<int, std::string>> values;  // (probe index, quantity)
+    std::map<std::pair<int, std::string>, double> values;  // (probe index, quantity) -> slab half-thickness
 };
 
 // The plan of a run (above): empty unless the estimator is dirsig with
