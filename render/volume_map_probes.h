@@ -1,6 +1,6 @@
 #pragma once
 // The irradiance probes of a horizontally invariant scene answered from the volume photon map's
-// collisions (the dirsig estimator; render.photons.probe_collisions, on by default; docs/rendering.md,
+// collisions (the dirsig estimator; render.photons.probe_collisions, off by default; docs/rendering.md,
 // "Probes from the volume map's collisions").
 //
 // The volume map records a photon at each scattering event it stores, with its power and its
@@ -18,7 +18,8 @@
 // e^(-K z): 0.2 % at K = 0.23 m^-1 and h = 0.5 m; none for a linear one, as near a black bottom),
 // the kernel bias every photon-map estimate has at its radius.
 //   h = min(kSlabRadii x the first pass's volume search radius, the distance from the probe to the
-//       nearest horizontal face and to the nearest boundary between its medium's layers);
+//       nearest horizontal face and to the nearest boundary between its medium's layers, and the
+//       thickness that keeps the bias within kSlabBias (below));
 // where that is below one search radius, the probe keeps the gather along directions.
 //
 // Each value's standard error is the spread of the progressive passes (each traces its own map), so
@@ -27,7 +28,8 @@
 //
 // The records in a slab number about 2 h b_s A Eo per unit of the photons' flux, so the estimate
 // needs water that scatters: in clear water (b_s of a few 0.01 m^-1) the gather, which sums the
-// records along metres of each view ray, does better. Hence off by default.
+// records along metres of each view ray, does better; a pilot chooses (below). Off by default: the
+// slab's kernel bias, held to kSlabBias, is still larger than the gather's at its radius.
 #include <map>
 #include <string>
 #include <utility>
