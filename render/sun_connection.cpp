@@ -32,6 +32,7 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
     : scene_(scene), group_(group), glossy_(glossy), effective_(std::move(effective)),
       inWater_(gInWaterSunEstimates.load()), straight_(straightPath) {
     LITTORAL_CHECK(effective_.empty() || effective_.size() == scene.media().size());
+    for (const Medium& md : scene.media()) sky_.push_back(md.n(group.begin) == 1.0 && !md.attenuating());
     skyRadiance_ = bandValues(scene.sky().radiance);
     // A medium under a rough interface: the inside medium of a mesh that uses a rough material, whose
     // outside is a non-attenuating medium (the air the sun shines through). Its sun estimates use
@@ -130,16 +131,11 @@ double SunConnection::misSunWeight(double bsdfPdf) const {
 Spec SunConnection::environment(const Vec3& d, const SunChain& chain) const {
     Spec L = environment(d, false);
     const SunSource& sun = scene_.sun();
-    if (!chain.countsSun() || !sun.inDisc(d)) return L;
+    if (!sun.inDisc(d) || !chain.countsSun()) return L;  // the disc test first: it rarely passes
     const double w = chain.glossyPdf > 0 ? misSunWeight(chain.glossyPdf) : 1.0;
     if (w <= 0) return L;
     for (int i = 0; i < group_.count; ++i) L[i] += w * sun.irradiance[group_.begin + i] / sun.solidAngle;
     return L;
-}
-
-bool SunConnection::skyMedium(int m) const {
-    const Medium& md = scene_.media()[static_cast<size_t>(m)];
-    return md.n(group_.begin) == 1.0 && !md.attenuating();
 }
 
 SunConnection::Walk SunConnection::straightWalk(Ray r, int m, bool stopAtSky, Spec* T, SurfaceHit* h, int* near,

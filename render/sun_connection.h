@@ -183,8 +183,9 @@ public:
     SunChain chainAfterGlossy(const SunChain& chain, const BSDFSample& s, int neeSide, bool toSky, double legZ) const;
     // The SunChain of a ray leaving a scattering vertex in `medium`.
     SunChain chainAfterVertex(int medium) const;
-    // Is medium m one the sun shines through (index 1, nothing attenuates: the air)?
-    bool skyMedium(int m) const;
+    // Is medium m one the sun shines through (index 1, nothing attenuates: the air)? Asked at every
+    // interface event (InteractionStep::intoSky), so kept per medium.
+    bool skyMedium(int m) const { return sky_[static_cast<size_t>(m)] != 0; }
     // Whether sample(), along() and direct() estimate the sun at points in `medium`: always in the
     // air; in a denser medium unless setInWaterSunEstimates(false) was in force when this connection
     // was made.
@@ -259,6 +260,7 @@ private:
 
     const Scene& scene_;
     BandGroup group_;
+    std::vector<unsigned char> sky_;  // per medium: skyMedium
     GlossySun glossy_;
     std::vector<bool> effective_;
     Spec skyRadiance_;  // the sky's radiance in this group's bands (environment() above the horizon)
