@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "core/bbox.h"
 #include "core/frame.h"
@@ -20,6 +21,23 @@ TEST(Vec3, LagrangeIdentityAndOrthogonality) {
         EXPECT_NEAR(lhs, lengthSquared(a) * lengthSquared(b), 1e-14);
         EXPECT_NEAR(dot(a, cross(a, b)), 0.0, 1e-15);
     }
+}
+
+// The inline fmin / fmax keep the library's rule, checked against it: the smaller (larger) of two
+// numbers, the other where one is NaN, over signed values, infinities and NaN in both places.
+TEST(Vec3, InlineMinMaxFollowTheLibrary) {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    const double v[] = {-inf, -2.5, -1e-300, 0.0, 3.0, 1e300, inf, nan};
+    for (double a : v)
+        for (double b : v) {
+            const double lo = fminInline(a, b), hi = fmaxInline(a, b);
+            if (std::isnan(std::fmin(a, b))) EXPECT_TRUE(std::isnan(lo)) << a << " " << b;
+            else EXPECT_EQ(lo, std::fmin(a, b)) << a << " " << b;
+            if (std::isnan(std::fmax(a, b))) EXPECT_TRUE(std::isnan(hi)) << a << " " << b;
+            else EXPECT_EQ(hi, std::fmax(a, b)) << a << " " << b;
+        }
+    EXPECT_EQ(vmin(Vec3{1, nan, -inf}, Vec3{nan, 2, 0}).y, 2.0);
+    EXPECT_EQ(vmax(Vec3{1, nan, -inf}, Vec3{nan, 2, 0}).x, 1.0);
 }
 
 // Frames built from any normal (including both poles) are orthonormal and right-handed,
