@@ -26,7 +26,7 @@ namespace littoral::render {
 namespace {
 
 constexpr uint64_t kPhotonPassBase = 1ull << 50;  // random-stream passes of the photon pass
-constexpr uint64_t kChunk = 16384;                // photons per chunk
+constexpr uint64_t kChunk = kPhotonChunk;         // photons per chunk
 
 struct ChunkResult {
     PhotonMap surface, volume;

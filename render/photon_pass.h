@@ -106,6 +106,10 @@ struct PhotonPassSettings {
     std::vector<bool> volumeMedium;     // per medium: stores volume photons (MediumPM)
 };
 
+// Photons per chunk: a pass traces its photons in chunks and fills its maps with whole chunks, so a
+// map holds its target rounded up to a chunk's records.
+inline constexpr uint64_t kPhotonChunk = 16384;
+
 struct PhotonMaps {
     PhotonMap surface, volume;
     uint64_t emitted = 0;                            // photons emitted in all

@@ -98,8 +98,8 @@ void sumSlabs(const Scene& scene, const RenderConfig& cfg, const std::vector<con
         if (maps[gi]) addRecords(scene, cfg, *maps[gi], groups[gi], slabs);
 }
 
-// The pilot's map: a quarter of a pass's volume photons (and no surface map), on random streams of
-// its own, split by depth as the passes are.
+// The pilot's map: a quarter of a pass's volume photons, or a whole chunk of photons where that is
+// more (and no surface map), on random streams of its own, split by depth as the passes are.
 constexpr uint64_t kCollisionPilotStream = 1ull << 47;
 constexpr uint64_t kCollisionPilotShare = 4;
 
@@ -161,8 +161,17 @@ CollisionPlan planCollisions(const Scene& scene, int threads) {
     std::vector<const PhotonMap*> maps;
     for (const PhotonMaps& m : pilots) maps.push_back(&m.volume);
     sumSlabs(scene, cfg, maps, groups, &slabs);
-    const double share = static_cast<double>(std::max<uint64_t>(1000, cfg.volumePhotons / kCollisionPilotShare)) /
-                         static_cast<double>(cfg.volumePhotons);
+    // The pilot's records over a pass's. Maps fill by whole chunks of photons, so a pass stores its
+    // target rounded up to a chunk's records (at the pilot's records per photon), and the pilot's
+    // smaller target may fill a chunk as large as the pass's.
+    double share = 1.0;
+    for (const PhotonMaps& m : pilots) {
+        if (m.volume.size() == 0 || m.emittedVolume == 0) continue;
+        const double perChunk = static_cast<double>(m.volume.size()) / static_cast<double>(m.emittedVolume) *
+                                static_cast<double>(kPhotonChunk);
+        const double pass = std::ceil(static_cast<double>(cfg.volumePhotons) / perChunk) * perChunk;
+        share = std::min(share, static_cast<double>(m.volume.size()) / std::max(pass, 1.0));
+    }
     for (const Slab& s : slabs) {
         std::string why;
         const auto [h, se] = choose(s, share, cfg.volumeRadius, &why);
