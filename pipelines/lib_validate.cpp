@@ -425,17 +425,16 @@ CaseResult forwardVsColumnCase(Context& c) {
 CaseResult photonMapsVsColumnCase(Context& c) {
     CaseResult r;
     std::vector<Check> noise;
-    const std::vector<std::string> ed = {"Ed"}, eou = {"Eou"}, both = {"Ed", "Eou"};
-    checkAgainstColumn(c, "problem5_photon_maps", embeddedScene("mobley1993/problem5_photon_maps"),
-                       "mobley1993/problem5_photon_maps",
-                       {{"tau1", 1, 1, ed}, {"tau5", 5, 5, ed}, {"tau10", 10, 10, ed}, {"tau1", 1, 1, eou, 0.015},
-                        {"tau5", 5, 5, eou, 0.015}, {"tau10", 10, 10, eou, 0.015}},
-                       0.008, r, noise, 4.1);
-    checkAgainstColumn(c, "problem2_photon_maps", embeddedScene("mobley1993/problem2_photon_maps"),
-                       "mobley1993/problem2_photon_maps",
-                       {{"tau1", 1, 1, ed}, {"tau5", 5, 5, ed}, {"tau10", 10, 10, ed}, {"tau1", 1, 1, eou, 0.015},
-                        {"tau5", 5, 5, eou, 0.015}, {"tau10", 10, 10, eou, 0.015}},
-                       0.005, r, noise, 4.1);
+    const std::vector<std::string> ed = {"Ed"}, eou = {"Eou"}, lu = {"Lu"}, both = {"Ed", "Eou"};
+    // Problems 5 and 2: Ed, Eou and (from every record below each probe) Lu, the collisions'.
+    for (const auto& [name, edSe] : {std::pair{"problem5_photon_maps", 0.008}, std::pair{"problem2_photon_maps", 0.005}}) {
+        const std::string rel = std::string("mobley1993/") + name;
+        checkAgainstColumn(c, name, embeddedScene(rel), rel,
+                           {{"tau1", 1, 1, ed}, {"tau5", 5, 5, ed}, {"tau10", 10, 10, ed}, {"tau1", 1, 1, eou, 0.015},
+                            {"tau5", 5, 5, eou, 0.015}, {"tau10", 10, 10, eou, 0.015}, {"tau1", 1, 1, lu, 0.06},
+                            {"tau5", 5, 5, lu, 0.06}, {"tau10", 10, 10, lu, 0.06}},
+                           edSe, r, noise, 4.1);
+    }
     checkAgainstColumn(c, "stratified_60m_photon_maps", embeddedScene("columns/stratified_60m_photon_maps"),
                        "columns/stratified_60m_photon_maps",
                        {{"z5", 5, 5, both}, {"z15", 15, 15, both}, {"z25", 25, 25, both}, {"z40", 40, 40, both},
@@ -831,7 +830,7 @@ std::vector<Case> suite() {
          "Forward irradiance tallies against the column solver: Petzold albedo 0.9 and a stratified column to 60 m",
          "the column solver (column/, no shared transport code)", true, 6, forwardVsColumnCase},
         {"photon-maps-vs-column", "3-D against 1-D",
-         "Photon maps against the column solver: problems 2 and 5 and the stratified column split by depth",
+         "Photon maps against the column solver: problems 2 and 5 (with Lu) and the stratified column split by depth",
          "the column solver (column/, no shared transport code)", false, 50, photonMapsVsColumnCase},
         {"photon-maps-vs-path", "solver against solver", "Photon maps against the path estimator, HG 0.9 water over sand",
          "the path estimator on the same scene", true, 12, pmVsPathCase},

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "core/log.h"
+#include "core/units.h"
 #include "render/forward_tally.h"
 #include "render/photon_pass.h"
 
@@ -17,11 +18,14 @@ namespace littoral::render {
 
 namespace {
 
-enum Tally { kEd, kEu, kEod, kEou, kTallies };
-constexpr std::array<const char*, kTallies> kNames = {"Ed", "Eu", "Eod", "Eou"};
+enum Tally { kEd, kEu, kEod, kEou, kLu, kTallies };
+constexpr std::array<const char*, kTallies> kNames = {"Ed", "Eu", "Eod", "Eou", "Lu"};
+const Vec3 kUp{0, 0, 1};
 
 // One value's slab: its probe and tally, centre, half-thickness and medium, and per band the sums
-// of x = Phi g / b_s, of x^2 and of x (z - z_p) over the records in it.
+// of x = Phi g / b_s, of x^2 and of x (z - z_p) over the records in it. For Lu the "slab" is the
+// water below the probe down to the surface its nadir ray meets (h: the distance to it), and x is
+// the record's in-scatter toward the probe (addRecords).
 struct Slab {
     int probe, tally;
     double z, h;
@@ -47,6 +51,16 @@ int tallyOf(const std::string& q) {
     return -1;
 }
 
+// The distance from p straight down to a black surface (infinite if the ray meets nothing), or 0
+// where it meets another kind: the Lu of a probe above a surface that reflects or transmits light
+// needs that surface's radiance, which the gather's view ray brings (render/dirsig_estimator.cpp).
+double blackBelow(const Scene& scene, const Point3& p) {
+    SurfaceHit h;
+    if (!scene.geometry().intersect(Ray{p, Vec3{0, 0, -1}}, &h)) return ir::kInfinity;
+    const auto idx = static_cast<size_t>(scene.materialIndex(h));
+    return idx < scene.ir().materials.size() && scene.ir().materials[idx].type == ir::Material::Type::Black ? h.t : 0.0;
+}
+
 // The slab of every probe value this could answer, at its largest half-thickness.
 std::vector<Slab> candidateSlabs(const Scene& scene, const RenderConfig& cfg, const std::vector<double>& faces) {
     std::vector<Slab> slabs;
@@ -57,12 +71,48 @@ std::vector<Slab> candidateSlabs(const Scene& scene, const RenderConfig& cfg, co
         if (m <= 0 || static_cast<size_t>(m - 1) >= cfg.mediumPM.size() || !cfg.mediumPM[static_cast<size_t>(m - 1)])
             continue;
         const Medium& md = scene.media()[static_cast<size_t>(m)];
+        if (!md.scattering()) continue;
         const double h = slabHalfThickness(md, faces, p.position.z, cfg.volumeRadius);
-        if (!md.scattering() || h <= 0) continue;
-        for (const std::string& q : p.quantities)
-            if (const int t = tallyOf(q); t >= 0) slabs.push_back({static_cast<int>(i), t, p.position.z, h, m, {}, {}, {}});
+        for (const std::string& q : p.quantities) {
+            const int t = tallyOf(q);
+            if (t == kLu) {
+                // A forward-peaked phase function is bounded only once effective scattering cuts its
+                // cone out: Petzold's own peak gives the sum an infinite variance (docs/rendering.md).
+                const double below = !md.forwardPeaked() || cfg.effectiveScattering ? blackBelow(scene, p.position) : 0;
+                if (below > 0)
+                    slabs.push_back({static_cast<int>(i), t, p.position.z, below, m, {}, {}, {}});
+            } else if (t >= 0 && h > 0) {
+                slabs.push_back({static_cast<int>(i), t, p.position.z, h, m, {}, {}, {}});
+            }
+        }
     }
     return slabs;
+}
+
+// Adds record i's in-scatter toward a probe above it to Lu's sums: in a horizontally invariant
+// scene the in-scatter J(z, up) per unit length is (1 / A) sum_i Phi_i p(d_i -> up) delta(z - z_i),
+// and Lu(z_p) = Int J(z) T(z_p - z) dz over the water below, down to the black surface: each
+// record below adds Phi_i p(d_i -> up) T / A (the gather's disc kernel 1 / (pi r^2) per unit length,
+// spread over the whole plane). With effective scattering, as in the gather, the phase function
+// is the part outside the 0.01 sr cone (over 1 - f), a record whose cone holds the view direction
+// is unscattered light, and T is the effective transmittance.
+void addLu(const Scene& scene, const RenderConfig& cfg, const PhotonMap& vm, BandGroup g, size_t i, Slab* s) {
+    const double z = vm.position(i).z;
+    if (!(z < s->z && s->z - z < s->h)) return;
+    const Vec3 dir = vm.direction(i);
+    const bool eff = cfg.effectiveScattering;
+    if (eff && dir.z > 1.0 - kEffectiveConeSr / (2.0 * kPi)) return;
+    const Medium& md = scene.media()[static_cast<size_t>(s->medium)];
+    const Spec T = md.transmittance(Ray{Point3{0, 0, s->z}, Vec3{0, 0, -1}}, s->z - z, g, eff);
+    if (T.maxValue() < 6e-6) return;
+    const int layer = md.layerAt(z);
+    const Spec p = md.phase(layer, g, dir, kUp);
+    for (int b = 0; b < g.count; ++b) {
+        const size_t band = static_cast<size_t>(g.begin + b);
+        const double cone = eff ? md.layers()[static_cast<size_t>(layer)].outsideCone[band] : 1.0;
+        const double x = T[b] * p[b] * cone * static_cast<double>(vm.power(i, b)) * vm.fluxScale[b];
+        s->s0[band] += x, s->s1[band] += x * x;
+    }
 }
 
 // Adds the volume map's records to the slabs' sums (bands of group g).
@@ -70,6 +120,10 @@ void addRecords(const Scene& scene, const RenderConfig& cfg, const PhotonMap& vm
     for (size_t i = 0; i < vm.size(); ++i) {
         const double z = vm.position(i).z;
         for (Slab& s : *slabs) {
+            if (s.tally == kLu) {
+                addLu(scene, cfg, vm, g, i, &s);
+                continue;
+            }
             if (!(std::abs(z - s.z) <= s.h)) continue;
             const double mu = vm.direction(i).z;
             const bool down = s.tally == kEd || s.tally == kEod;
@@ -130,8 +184,12 @@ std::pair<double, double> choose(const Slab& s, double share, double radius, std
         k = std::max(k, std::abs(3 * s.sz[b] / s.s0[b]) / (s.h * s.h));
         se = std::max(se, kRecordCorrelation * std::sqrt(s.s1[b] * share) / s.s0[b]);
     }
-    if (k * h * k * h / 6 > kSlabBias) h = std::sqrt(6 * kSlabBias) / k;
+    if (s.tally != kLu && k * h * k * h / 6 > kSlabBias) h = std::sqrt(6 * kSlabBias) / k;
     // The records in a slab are about proportional to its thickness.
+    if (s.tally == kLu) {
+        *why = fmt::format("the pilot predicts {:.2g} % a pass from the in-scatter of every record below", 100 * se);
+        return {h, se};
+    }
     se = h >= radius ? se * std::sqrt(s.h / h) : std::numeric_limits<double>::infinity();
     *why = fmt::format("the pilot predicts {:.2g} % a pass from the collisions in its slab of +-{:.3g} m; the profile "
                        "changes as e^({:.2g} m^-1 z) there",
@@ -175,7 +233,10 @@ CollisionPlan planCollisions(const Scene& scene, int threads) {
     for (const Slab& s : slabs) {
         std::string why;
         const auto [h, se] = choose(s, share, cfg.volumeRadius, &why);
-        const bool use = se <= kCollisionTrustedSe;
+        // Lu: always, where it applies. Its estimate is the gather's along the nadir line with the disc
+        // kernel spread over the whole plane (addLu), so it sums every record the gather would and
+        // about A / (pi r^2) times as many besides, with the same weights: never noisier.
+        const bool use = s.tally == kLu ? std::isfinite(se) : se <= kCollisionTrustedSe;
         const std::string q = kNames[static_cast<size_t>(s.tally)];
         if (use) plan.values[{s.probe, q}] = h;
         log::debug("probe {} {}: {} ({})", scene.ir().probes[static_cast<size_t>(s.probe)].name, q,
@@ -213,11 +274,12 @@ ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimat
         ProbeValue v;
         v.probe = p.name;
         v.quantity = kNames[static_cast<size_t>(s.tally)];
-        v.units = "W m^-2 um^-1";
+        v.units = s.tally == kLu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
         v.position = p.position;
         v.medium = p.medium;
         v.mean.resize(s.s0.size());
-        for (size_t b = 0; b < s.s0.size(); ++b) v.mean[b] = s.s0[b] / (2 * s.h * area);
+        const double volume = s.tally == kLu ? area : 2 * s.h * area;  // Lu: per unit depth (addLu)
+        for (size_t b = 0; b < s.s0.size(); ++b) v.mean[b] = s.s0[b] / volume;
         v.stderr_.assign(s.s0.size(), 0.0);  // the passes' spread replaces it (render_job.cpp)
         v.samples = records;
         v.batches = cfg.passes;
