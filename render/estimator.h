@@ -176,14 +176,14 @@ protected:
     SunConnection sun_;
 };
 
-// The estimators of one render: the resolved settings and one estimator per band group, built once
-// and shared by every sensor and probe.
 // The photon pass of band group g's maps in progressive pass `pass` (1-based): the render's
 // photon settings, random streams keyed by the pass and the group, the pass's radii, and the
 // depth splitting's pilot when render.photons.depth_splitting is set.
 PhotonPassSettings photonPassSettings(const Scene& scene, const RenderConfig& config, BandGroup g, int pass, int threads,
                                       bool progress, uint64_t maxPhotonsEmitted);
 
+// The estimators of one render: the resolved settings and one estimator per band group, built once
+// and shared by every sensor and probe.
 class EstimatorSet {
 public:
     // For progressive photon mapping, pass p (1-based) traces its own photon maps (random streams

@@ -36,8 +36,6 @@ constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in
 // instead of ending early (survival biasing; unbiased either way).
 constexpr double kRouletteBelow = 0.25;
 
-enum Tally { kEd, kEu, kEod, kEou, kLu, kTallies };
-
 // A crossing at direction cosine mu adds w / |mu| to the scalar irradiance; the second moment of
 // that is log-divergent at grazing angles (Int L / mu dmu), and one grazing photon can carry a
 // batch. Below kGrazingMu the weight is 2 / kGrazingMu instead (the usual grazing correction of
@@ -262,15 +260,6 @@ private:
         double P = 0;
     } memo_;
 };
-
-int tallyOf(const std::string& q) {
-    if (q == "Ed") return kEd;
-    if (q == "Eu") return kEu;
-    if (q == "Eod") return kEod;
-    if (q == "Eou") return kEou;
-    if (q == "Lu") return kLu;
-    return -1;
-}
 
 // A horizontal face's plane, material and media: the faces of one level together must cover the
 // domain once.

@@ -30,6 +30,7 @@
 //
 // Standard errors come from render.probe_batches independent batches of photons, as for the
 // backward probes. Results do not depend on the thread count or the ranks.
+#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -47,6 +48,17 @@ std::string horizontalInvarianceProblem(const ir::SceneIR& ir);
 // The heights of the horizontal faces of a horizontally invariant scene, ascending and distinct
 // (false, and nothing written, if the scene is not invariant).
 bool horizontalFacePlanes(const ir::SceneIR& ir, std::vector<double>* planes);
+
+// The probe quantities that photons traced forward can answer, by index: the forward tallies'
+// (below) and the volume map's collisions' (render/volume_map_probes.h).
+enum PhotonTally { kEd, kEu, kEod, kEou, kLu, kTallies };
+inline constexpr std::array<const char*, kTallies> kTallyNames = {"Ed", "Eu", "Eod", "Eou", "Lu"};
+// The index of quantity q, or -1.
+inline int tallyOf(const std::string& q) {
+    for (int t = 0; t < kTallies; ++t)
+        if (q == kTallyNames[static_cast<size_t>(t)]) return t;
+    return -1;
+}
 
 // The forward tallies of every probe quantity they answer. Empty when render.probe_photons is 0,
 // the estimator is not `path`, the scene is not horizontally invariant or no probe asks for an

@@ -62,12 +62,9 @@ SunConnection::SunConnection(const Scene& scene, BandGroup group, GlossySun glos
     }
     // Facet beams into every denser medium that is not under a rough interface.
     beams_.resize(nm);
-    std::vector<bool> sky(nm);
+    const std::vector<bool> sky(sky_.begin(), sky_.end());
     std::vector<double> index(nm);
-    for (size_t m = 0; m < nm; ++m) {
-        sky[m] = skyMedium(static_cast<int>(m));
-        index[m] = scene.media()[m].n(group.begin);
-    }
+    for (size_t m = 0; m < nm; ++m) index[m] = scene.media()[m].n(group.begin);
     const SunSource& sun = scene.sun();
     for (size_t m = 0; m < nm && sun.enabled; ++m) {
         if (sky[m] || roughSunMaterial_[m] >= 0) continue;

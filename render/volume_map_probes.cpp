@@ -1,7 +1,6 @@
 #include "render/volume_map_probes.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -18,8 +17,6 @@ namespace littoral::render {
 
 namespace {
 
-enum Tally { kEd, kEu, kEod, kEou, kLu, kTallies };
-constexpr std::array<const char*, kTallies> kNames = {"Ed", "Eu", "Eod", "Eou", "Lu"};
 const Vec3 kUp{0, 0, 1};
 
 // One value's slab: its probe and tally, centre, half-thickness and medium, and per band the sums
@@ -42,13 +39,6 @@ double slabHalfThickness(const Medium& md, const std::vector<double>& faces, dou
         for (double b : {l.zTop, l.zBottom})
             if (std::isfinite(b)) h = std::min(h, std::abs(b - z));
     return h >= radius ? h : 0.0;
-}
-
-// The index of tally `q`, or -1.
-int tallyOf(const std::string& q) {
-    for (int t = 0; t < kTallies; ++t)
-        if (q == kNames[static_cast<size_t>(t)]) return t;
-    return -1;
 }
 
 // The distance from p straight down to a black surface (infinite if the ray meets nothing), or 0
@@ -177,19 +167,19 @@ std::vector<PhotonMaps> pilotMaps(const Scene& scene, const RenderConfig& cfg, c
 // error of one pass at it (above; infinite where the half-thickness falls below `radius` or no
 // record reached the slab). *why receives the figures, for the log.
 std::pair<double, double> choose(const Slab& s, double share, double radius, std::string* why) {
-    double h = s.h, k = 0, se = 0;
+    double k = 0, se = 0;
     for (size_t b = 0; b < s.s0.size(); ++b) {
         if (!(s.s0[b] > 0)) return {0.0, std::numeric_limits<double>::infinity()};
         // The records' mean offset from the probe is k h^2 / 3 for a profile e^(k (z - z_p)).
         k = std::max(k, std::abs(3 * s.sz[b] / s.s0[b]) / (s.h * s.h));
         se = std::max(se, kRecordCorrelation * std::sqrt(s.s1[b] * share) / s.s0[b]);
     }
-    if (s.tally != kLu && k * h * k * h / 6 > kSlabBias) h = std::sqrt(6 * kSlabBias) / k;
-    // The records in a slab are about proportional to its thickness.
-    if (s.tally == kLu) {
+    if (s.tally == kLu) {  // no slab: every record below
         *why = fmt::format("the pilot predicts {:.2g} % a pass from the in-scatter of every record below", 100 * se);
-        return {h, se};
+        return {s.h, se};
     }
+    const double h = k * s.h * k * s.h / 6 > kSlabBias ? std::sqrt(6 * kSlabBias) / k : s.h;
+    // The records in a slab are about proportional to its thickness.
     se = h >= radius ? se * std::sqrt(s.h / h) : std::numeric_limits<double>::infinity();
     *why = fmt::format("the pilot predicts {:.2g} % a pass from the collisions in its slab of +-{:.3g} m; the profile "
                        "changes as e^({:.2g} m^-1 z) there",
@@ -237,7 +227,7 @@ CollisionPlan planCollisions(const Scene& scene, int threads) {
         // kernel spread over the whole plane (addLu), so it sums every record the gather would and
         // about A / (pi r^2) times as many besides, with the same weights: never noisier.
         const bool use = s.tally == kLu ? std::isfinite(se) : se <= kCollisionTrustedSe;
-        const std::string q = kNames[static_cast<size_t>(s.tally)];
+        const std::string q = kTallyNames[static_cast<size_t>(s.tally)];
         if (use) plan.values[{s.probe, q}] = h;
         log::debug("probe {} {}: {} ({})", scene.ir().probes[static_cast<size_t>(s.probe)].name, q,
                    use ? "collisions" : "gather", why);
@@ -273,7 +263,7 @@ ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimat
         const ir::Probe& p = probes[static_cast<size_t>(s.probe)];
         ProbeValue v;
         v.probe = p.name;
-        v.quantity = kNames[static_cast<size_t>(s.tally)];
+        v.quantity = kTallyNames[static_cast<size_t>(s.tally)];
         v.units = s.tally == kLu ? "W m^-2 sr^-1 um^-1" : "W m^-2 um^-1";
         v.position = p.position;
         v.medium = p.medium;

@@ -1,7 +1,8 @@
 #pragma once
-// The irradiance probes of a horizontally invariant scene answered from the volume photon map's
-// collisions (the dirsig estimator; render.photons.probe_collisions, off by default; docs/rendering.md,
-// "Probes from the volume map's collisions").
+// The irradiance probes (and Lu, over a black bottom: volume_map_probes.cpp, addLu) of a
+// horizontally invariant scene answered from the volume photon map's collisions (the dirsig
+// estimator; render.photons.probe_collisions, off by default; docs/rendering.md, "Probes from the
+// volume map's collisions").
 //
 // The volume map records a photon at each scattering event it stores, with its power and its
 // direction before the event, at the rate b_s L(x, w) per unit volume and solid angle (b_s the
@@ -73,7 +74,7 @@ struct CollisionPlan {
 // scene. The same for every pass, thread count and rank (the pilot's streams are its own).
 CollisionPlan planCollisions(const Scene& scene, int threads);
 
-// The values of Ed, Eu, Eod and Eou in `plan`, from `estimators`' volume maps.
+// The values of Ed, Eu, Eod, Eou and Lu in `plan`, from `estimators`' volume maps.
 ProbeAnswers volumeMapCollisions(const Scene& scene, const EstimatorSet& estimators, const CollisionPlan& plan);
 
 }  // namespace littoral::render
