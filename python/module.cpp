@@ -13,13 +13,13 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <OpenImageIO/imageio.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/mesh.h"
 #include "core/progress.h"
 #include "pipelines/lib_scene.h"
@@ -61,34 +61,33 @@ py::dict filmDict(const render::Film& f) {
 // previews): its channels as (channels, rows, cols) float32 (uint8 for 8-bit images), their names,
 // and the string and number attributes of its header.
 py::dict rasterDict(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(SourceLoc{path}, "cannot read the image: " + OIIO::geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    const bool bytes = spec.format == OIIO::TypeDesc::UINT8;
-    const size_t n = static_cast<size_t>(spec.width) * spec.height * spec.nchannels;
+    imageio::Reader in(path);
+    if (!in.ok()) throw InputError(SourceLoc{path}, "cannot read the image: " + in.error());
+    const imageio::Header spec = in.header();
+    const bool bytes = spec.storedUInt8;
+    const size_t n = static_cast<size_t>(spec.width) * spec.height * spec.channels;
     py::dict d;
-    auto planes = [&](auto* pixels, auto arr, OIIO::TypeDesc type) {
+    auto planes = [&](auto* pixels, auto arr, imageio::PixelType type) {
         std::vector<std::remove_pointer_t<decltype(pixels)>> buf(n);
-        if (!in->read_image(0, 0, 0, spec.nchannels, type, buf.data()))
-            throw InputError(SourceLoc{path}, "cannot read the image: " + in->geterror());
+        if (!in.read(spec.channels, type, buf.data()))
+            throw InputError(SourceLoc{path}, "cannot read the image: " + in.error());
         auto m = arr.template mutable_unchecked<3>();
-        for (int c = 0; c < spec.nchannels; ++c)
+        for (int c = 0; c < spec.channels; ++c)
             for (int y = 0; y < spec.height; ++y)
                 for (int x = 0; x < spec.width; ++x)
-                    m(c, y, x) = buf[(static_cast<size_t>(y) * spec.width + x) * spec.nchannels + c];
+                    m(c, y, x) = buf[(static_cast<size_t>(y) * spec.width + x) * spec.channels + c];
         d["data"] = arr;
     };
-    if (bytes) planes(static_cast<uint8_t*>(nullptr), py::array_t<uint8_t>({spec.nchannels, spec.height, spec.width}), OIIO::TypeDesc::UINT8);
-    else planes(static_cast<float*>(nullptr), py::array_t<float>({spec.nchannels, spec.height, spec.width}), OIIO::TypeDesc::FLOAT);
-    d["channels"] = spec.channelnames;
+    if (bytes) planes(static_cast<uint8_t*>(nullptr), py::array_t<uint8_t>({spec.channels, spec.height, spec.width}), imageio::PixelType::UInt8);
+    else planes(static_cast<float*>(nullptr), py::array_t<float>({spec.channels, spec.height, spec.width}), imageio::PixelType::Float);
+    d["channels"] = spec.channelNames;
     py::dict attrs;
-    for (const OIIO::ParamValue& p : spec.extra_attribs) {
-        if (p.type() == OIIO::TypeDesc::STRING) attrs[p.name().c_str()] = std::string(p.get_ustring().c_str());
-        else if (p.type() == OIIO::TypeDesc::FLOAT) attrs[p.name().c_str()] = p.get_float();
-        else if (p.type() == OIIO::TypeDesc::INT) attrs[p.name().c_str()] = p.get_int();
+    for (const imageio::Attribute& p : spec.attributes) {
+        if (p.kind == imageio::Attribute::Kind::String) attrs[p.name.c_str()] = p.value;
+        else if (p.kind == imageio::Attribute::Kind::Float) attrs[p.name.c_str()] = std::stod(p.value);
+        else if (p.kind == imageio::Attribute::Kind::Int) attrs[p.name.c_str()] = std::stol(p.value);
     }
     d["attributes"] = attrs;
-    in->close();
     return d;
 }
 

@@ -1,8 +1,5 @@
 #include "render/image_output.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -20,57 +17,21 @@
 #include "core/atomic_file.h"
 #include "core/colour.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/resource_limits.h"
 
 namespace littoral::render {
 
 namespace fs = std::filesystem;
-namespace OIIO = OIIO_NAMESPACE;
 
 namespace {
 
 constexpr const char* kRadianceUnits = "W m^-2 sr^-1 um^-1";
 constexpr const char* kQuantity = "band-averaged spectral radiance";
 
-// Every image is encoded in memory (OIIO's writers do not report a full disk: an 8 KB EXR and a
-// 0-byte PNG were once left as "finished" outputs) and reaches the disk through the checked,
-// atomic writer of core/atomic_file.h.
-std::string encodeImage(const fs::path& target, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
-    const std::string ext = target.extension().string().empty() ? std::string("exr") : target.extension().string().substr(1);
-    auto out = OIIO::ImageOutput::create(ext);
-    if (!out) throw InputError(SourceLoc{target.string()}, "no image writer for this file type: " + libraryMessage(OIIO::geterror()));
-    std::vector<unsigned char> bytes;
-    OIIO::Filesystem::IOVecOutput vec(bytes);
-    if (!out->supports("ioproxy") || !out->set_ioproxy(&vec))
-        throw InternalError("the OpenImageIO " + ext + " writer cannot encode into memory");
-    // With SOURCE_DATE_EPOCH set (the reproducible-builds convention), the EXR's DateTime is that
-    // time, not now: two runs of one scene then write the same bytes (OpenImageIO stamps the time
-    // of writing otherwise).
-    OIIO::ImageSpec stamped = spec;
-    if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH"); epoch && ext == "exr") {
-        char* end = nullptr;
-        const long long t = std::strtoll(epoch, &end, 10);
-        if (end != epoch && *end == '\0' && t >= 0) {
-            const std::time_t tt = static_cast<std::time_t>(t);
-            std::tm utc{};
-            gmtime_r(&tt, &utc);
-            char buf[32];
-            std::strftime(buf, sizeof buf, "%Y:%m:%d %H:%M:%S", &utc);
-            stamped.attribute("DateTime", buf);
-        }
-    }
-    if (!out->open("memory." + ext, stamped)) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
-    if (!out->write_image(type, data)) {
-        const std::string err = libraryMessage(out->geterror());
-        out->close();
-        throw InputError(SourceLoc{target.string()}, "cannot encode: " + err);
-    }
-    if (!out->close()) throw InputError(SourceLoc{target.string()}, "cannot encode: " + libraryMessage(out->geterror()));
-    return std::string(bytes.begin(), bytes.end());
-}
-
-void writeImage(const fs::path& target, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
-    writeFileAtomic(target, encodeImage(target, spec, type, data));
+// Every image reaches the disk through core/image_io.h (encoded in memory, written atomically).
+void writeImage(const fs::path& target, const imageio::WriteSpec& spec, const void* data) {
+    imageio::writeFile(target, spec, data);
 }
 
 // Band centres and widths in an ENVI header: 12 significant digits, so 0.5 - 0.4 prints as 0.1
@@ -125,36 +86,35 @@ void checkFilm(const Film& film, const fs::path& path) {
                                      film.width, film.height, film.bands.size(), film.pixels.size()));
 }
 
-struct OiioImage {
-    OIIO::ImageSpec spec;
-    std::vector<float> data;  // interleaved floats, spec.nchannels per pixel
+struct FloatImage {
+    imageio::Header spec;
+    std::vector<float> data;  // interleaved floats, spec.channels per pixel
 };
 
-OiioImage oiioReadFloat(const fs::path& path) {
+FloatImage readFloatImage(const fs::path& path) {
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
     requireRegularInputFile(path, "image file");
     noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + libraryMessage(OIIO::geterror()));
-    OiioImage img;
-    img.spec = in->spec();
-    requireMemory(8.0 * double(img.spec.width) * double(img.spec.height) * double(img.spec.nchannels),
+    imageio::Reader in(path);
+    if (!in.ok()) throw InputError(SourceLoc{path.string()}, "cannot read image: " + in.error());
+    FloatImage img;
+    img.spec = in.header();
+    requireMemory(8.0 * double(img.spec.width) * double(img.spec.height) * double(img.spec.channels),
                   fmt::format("an image of {} x {} px x {} channels would", img.spec.width, img.spec.height,
-                              img.spec.nchannels),
+                              img.spec.channels),
                   SourceLoc{path.string()});
-    img.data.resize(static_cast<std::size_t>(img.spec.width) * img.spec.height * img.spec.nchannels);
-    if (!in->read_image(0, 0, 0, img.spec.nchannels, OIIO::TypeDesc::FLOAT, img.data.data()))
-        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in->geterror()));
-    in->close();
+    img.data.resize(static_cast<std::size_t>(img.spec.width) * img.spec.height * img.spec.channels);
+    if (!in.read(img.spec.channels, imageio::PixelType::Float, img.data.data()))
+        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in.error());
     return img;
 }
 
-std::string stringAttribute(const OIIO::ImageSpec& spec, const std::string& name, const fs::path& path) {
-    const OIIO::ParamValue* p = spec.find_attribute(name, OIIO::TypeDesc::STRING);
-    if (!p)
+std::string stringAttribute(const imageio::Header& spec, const std::string& name, const fs::path& path) {
+    const std::string* v = spec.stringAttribute(name);
+    if (!v)
         throw InputError(SourceLoc{path.string()},
                          "attribute '" + name + "' is missing (not an image written by Littoral?)");
-    return p->get_string();
+    return *v;
 }
 
 }  // namespace
@@ -178,27 +138,26 @@ std::vector<std::string> bandChannelNames(const std::vector<Band>& bands) {
 void writeExr(const fs::path& path, const Film& film, const std::map<std::string, std::string>& metadata) {
     checkFilm(film, path);
     const int nb = film.bandCount();
-    OIIO::ImageSpec spec(film.width, film.height, nb, OIIO::TypeDesc::FLOAT);
+    imageio::WriteSpec spec{film.width, film.height, nb, imageio::PixelType::Float, {}, {}};
     const std::vector<std::string> names = bandChannelNames(film.bands);
-    spec.channelnames = names;
-    spec.alpha_channel = -1;
-    spec.attribute("compression", "zip");  // lossless: a round trip is bit-exact
+    spec.channelNames = names;
+    spec.attributes.emplace_back("compression", "zip");  // lossless: a round trip is bit-exact
     std::vector<std::string> lo, hi;
     for (const Band& b : film.bands) {
         lo.push_back(shortest(b.lo));
         hi.push_back(shortest(b.hi));
     }
-    spec.attribute("littoral:quantity", kQuantity);
-    spec.attribute("littoral:units", kRadianceUnits);
-    spec.attribute("littoral:channels", joinCommas(names));
-    spec.attribute("littoral:band_lo_um", joinCommas(lo));
-    spec.attribute("littoral:band_hi_um", joinCommas(hi));
-    for (const auto& [k, v] : metadata) spec.attribute("littoral:" + k, v);
-    writeImage(path, spec, OIIO::TypeDesc::FLOAT, film.pixels.data());
+    spec.attributes.emplace_back("littoral:quantity", kQuantity);
+    spec.attributes.emplace_back("littoral:units", kRadianceUnits);
+    spec.attributes.emplace_back("littoral:channels", joinCommas(names));
+    spec.attributes.emplace_back("littoral:band_lo_um", joinCommas(lo));
+    spec.attributes.emplace_back("littoral:band_hi_um", joinCommas(hi));
+    for (const auto& [k, v] : metadata) spec.attributes.emplace_back("littoral:" + k, v);
+    writeImage(path, spec, film.pixels.data());
 }
 
 Film readExr(const fs::path& path, std::map<std::string, std::string>* metadata) {
-    OiioImage img = oiioReadFloat(path);
+    FloatImage img = readFloatImage(path);
     const std::vector<std::string> channels = splitCommas(stringAttribute(img.spec, "littoral:channels", path));
     const std::vector<std::string> lo = splitCommas(stringAttribute(img.spec, "littoral:band_lo_um", path));
     const std::vector<std::string> hi = splitCommas(stringAttribute(img.spec, "littoral:band_hi_um", path));
@@ -209,24 +168,24 @@ Film readExr(const fs::path& path, std::map<std::string, std::string>* metadata)
         bands.push_back(Band{parseDouble(lo[b], "littoral:band_lo_um", path.string()),
                              parseDouble(hi[b], "littoral:band_hi_um", path.string())});
     Film film(img.spec.width, img.spec.height, bands);
-    const int nc = img.spec.nchannels;
+    const int nc = img.spec.channels;
     for (std::size_t b = 0; b < channels.size(); ++b) {
         // The EXR library stores channels sorted by name; find each band's channel by its name.
-        auto it = std::find(img.spec.channelnames.begin(), img.spec.channelnames.end(), channels[b]);
-        if (it == img.spec.channelnames.end())
+        auto it = std::find(img.spec.channelNames.begin(), img.spec.channelNames.end(), channels[b]);
+        if (it == img.spec.channelNames.end())
             throw InputError(SourceLoc{path.string()}, "channel '" + channels[b] + "' is missing");
-        const std::size_t c = static_cast<std::size_t>(it - img.spec.channelnames.begin());
+        const std::size_t c = static_cast<std::size_t>(it - img.spec.channelNames.begin());
         for (std::size_t p = 0; p < film.pixelCount(); ++p) film.pixels[p * bands.size() + b] = img.data[p * nc + c];
     }
     if (metadata) {
         metadata->clear();
-        for (const OIIO::ParamValue& p : img.spec.extra_attribs) {
-            const std::string name = p.name().string();
-            if (name.rfind("littoral:", 0) != 0 || p.type() != OIIO::TypeDesc::STRING) continue;
+        for (const imageio::Attribute& p : img.spec.attributes) {
+            const std::string& name = p.name;
+            if (name.rfind("littoral:", 0) != 0 || p.kind != imageio::Attribute::Kind::String) continue;
             const std::string key = name.substr(9);
             if (key == "channels" || key == "band_lo_um" || key == "band_hi_um" || key == "units" || key == "quantity")
                 continue;
-            (*metadata)[key] = p.get_string();
+            (*metadata)[key] = p.value;
         }
     }
     return film;
@@ -545,12 +504,12 @@ void writePngPreview(const fs::path& path, const Film& film, const PreviewOption
         for (std::size_t p = 0; p < np; ++p)
             bytes[p * nc + c] = static_cast<uint8_t>(std::lround(255.0 * std::clamp(static_cast<double>(disp[p]), 0.0, 1.0)));
     }
-    OIIO::ImageSpec spec(film.width, film.height, nc, OIIO::TypeDesc::UINT8);
-    spec.attribute("Software", "Littoral");
-    spec.attribute("ImageDescription",
+    imageio::WriteSpec spec{film.width, film.height, nc, imageio::PixelType::UInt8, {}, {}};
+    spec.attributes.emplace_back("Software", "Littoral");
+    spec.attributes.emplace_back("ImageDescription",
                    fmt::format("Littoral preview: white = {} {}, gamma = {}, blur sigma = {} px", white, kRadianceUnits,
                                o.gamma, o.blurSigma));
-    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    writeImage(path, spec, bytes.data());
 }
 
 std::vector<std::array<float, 3>> linearSrgbPixels(const Film& film) {
@@ -592,14 +551,14 @@ void writeTrueColourPng(const fs::path& path, const Film& film, const PreviewOpt
         for (std::size_t p = 0; p < np; ++p)
             bytes[p * 3 + c] = static_cast<uint8_t>(std::lround(255.0 * std::clamp(static_cast<double>(disp[p]), 0.0, 1.0)));
     }
-    OIIO::ImageSpec spec(film.width, film.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("Software", "Littoral");
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    spec.attribute("ImageDescription",
+    imageio::WriteSpec spec{film.width, film.height, 3, imageio::PixelType::UInt8, {}, {}};
+    spec.attributes.emplace_back("Software", "Littoral");
+    spec.attributes.emplace_back("oiio:ColorSpace", "sRGB");
+    spec.attributes.emplace_back("ImageDescription",
                    fmt::format("Littoral true-colour preview: CIE 1931 XYZ of the band radiances, sRGB (D65, no "
                                "chromatic adaptation); linear white = {} {} (as Y of a flat spectrum), blur sigma = {} px",
                                white, kRadianceUnits, o.blurSigma));
-    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    writeImage(path, spec, bytes.data());
 }
 
 void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::vector<std::string>& names,
@@ -653,13 +612,12 @@ void writeTruthExr(const fs::path& path, const TruthImages& t, const std::vector
         data[4 * p + 2] = t.range[p];
         data[4 * p + 3] = t.hitDepth[p];
     }
-    OIIO::ImageSpec spec(t.width, t.height, 4, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"materialId", "surfaceId", "range", "hitDepth"};
-    spec.alpha_channel = -1;
-    spec.attribute("compression", "zip");
-    spec.attribute("littoral:quantity", "first-hit truth along each pixel's centre ray, and the first opaque surface "
+    imageio::WriteSpec spec{t.width, t.height, 4, imageio::PixelType::Float, {}, {}};
+    spec.channelNames = {"materialId", "surfaceId", "range", "hitDepth"};
+    spec.attributes.emplace_back("compression", "zip");
+    spec.attributes.emplace_back("littoral:quantity", "first-hit truth along each pixel's centre ray, and the first opaque surface "
                                         "through the interfaces");
-    spec.attribute("littoral:units", "materialId: index of the first hit (-1 = none); surfaceId: index of the first "
+    spec.attributes.emplace_back("littoral:units", "materialId: index of the first hit (-1 = none); surfaceId: index of the first "
                                      "opaque surface through refraction (-1 = none); range: m (+inf = none); hitDepth: m "
                                      "below z = 0 of that surface (NaN = none)");
     if (!materialNames.empty()) {
@@ -670,25 +628,25 @@ void writeTruthExr(const fs::path& path, const TruthImages& t, const std::vector
             for (char ch : m) e += ch == ',' ? std::string("%2C") : ch == '%' ? std::string("%25") : std::string(1, ch);
             escaped.push_back(e);
         }
-        spec.attribute("littoral:materials", joinCommas(escaped));
+        spec.attributes.emplace_back("littoral:materials", joinCommas(escaped));
     }
-    writeImage(path, spec, OIIO::TypeDesc::FLOAT, data.data());
+    writeImage(path, spec, data.data());
 }
 
 TruthImages readTruthExr(const fs::path& path) {
-    OiioImage img = oiioReadFloat(path);
+    FloatImage img = readFloatImage(path);
     TruthImages t(img.spec.width, img.spec.height);
     int idx[3];
     const char* names[3] = {"materialId", "range", "hitDepth"};
     for (int c = 0; c < 3; ++c) {
-        auto it = std::find(img.spec.channelnames.begin(), img.spec.channelnames.end(), names[c]);
-        if (it == img.spec.channelnames.end())
+        auto it = std::find(img.spec.channelNames.begin(), img.spec.channelNames.end(), names[c]);
+        if (it == img.spec.channelNames.end())
             throw InputError(SourceLoc{path.string()}, std::string("truth channel '") + names[c] + "' is missing");
-        idx[c] = static_cast<int>(it - img.spec.channelnames.begin());
+        idx[c] = static_cast<int>(it - img.spec.channelNames.begin());
     }
-    const int nc = img.spec.nchannels;
-    auto sid = std::find(img.spec.channelnames.begin(), img.spec.channelnames.end(), "surfaceId");
-    const int surface = sid == img.spec.channelnames.end() ? -1 : static_cast<int>(sid - img.spec.channelnames.begin());
+    const int nc = img.spec.channels;
+    auto sid = std::find(img.spec.channelNames.begin(), img.spec.channelNames.end(), "surfaceId");
+    const int surface = sid == img.spec.channelNames.end() ? -1 : static_cast<int>(sid - img.spec.channelNames.begin());
     for (std::size_t p = 0; p < t.materialId.size(); ++p) {
         t.materialId[p] = static_cast<int32_t>(img.data[p * nc + idx[0]]);
         if (surface >= 0) t.surfaceId[p] = static_cast<int32_t>(img.data[p * nc + surface]);
@@ -700,25 +658,24 @@ TruthImages readTruthExr(const fs::path& path) {
 
 void writeMaterialIdTiff(const fs::path& path, const TruthImages& t) {
     checkTruth(t, path);
-    OIIO::ImageSpec spec(t.width, t.height, 1, OIIO::TypeDesc::INT32);
-    spec.channelnames = {"materialId"};
-    spec.attribute("compression", "zip");
-    spec.attribute("ImageDescription", "Littoral material id per pixel (index into the IR materials, -1 = nothing hit)");
-    writeImage(path, spec, OIIO::TypeDesc::INT32, t.materialId.data());
+    imageio::WriteSpec spec{t.width, t.height, 1, imageio::PixelType::Int32, {}, {}};
+    spec.channelNames = {"materialId"};
+    spec.attributes.emplace_back("compression", "zip");
+    spec.attributes.emplace_back("ImageDescription", "Littoral material id per pixel (index into the IR materials, -1 = nothing hit)");
+    writeImage(path, spec, t.materialId.data());
 }
 
 std::vector<int32_t> readMaterialIdTiff(const fs::path& path, int* width, int* height) {
     if (!fs::exists(path)) throw InputError(SourceLoc{path.string()}, "image file does not exist");
     noteInput(path);  // no output may replace it
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw InputError(SourceLoc{path.string()}, "cannot read image: " + libraryMessage(OIIO::geterror()));
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.nchannels != 1)
-        throw InputError(SourceLoc{path.string()}, fmt::format("expected one channel, found {}", spec.nchannels));
+    imageio::Reader in(path);
+    if (!in.ok()) throw InputError(SourceLoc{path.string()}, "cannot read image: " + in.error());
+    const imageio::Header spec = in.header();
+    if (spec.channels != 1)
+        throw InputError(SourceLoc{path.string()}, fmt::format("expected one channel, found {}", spec.channels));
     std::vector<int32_t> ids(static_cast<std::size_t>(spec.width) * spec.height);
-    if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::INT32, ids.data()))
-        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + libraryMessage(in->geterror()));
-    in->close();
+    if (!in.read(1, imageio::PixelType::Int32, ids.data()))
+        throw InputError(SourceLoc{path.string()}, "cannot read pixels: " + in.error());
     if (width) *width = spec.width;
     if (height) *height = spec.height;
     return ids;
@@ -754,11 +711,11 @@ void writeMaterialIdPng(const fs::path& path, const TruthImages& t) {
     checkTruth(t, path);
     std::vector<uint8_t> bytes(t.surfaceId.size() * 3);
     for (std::size_t p = 0; p < t.surfaceId.size(); ++p) materialIdColour(t.surfaceId[p], &bytes[3 * p]);
-    OIIO::ImageSpec spec(t.width, t.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("Software", "Littoral");
-    spec.attribute("ImageDescription", "Littoral material of the first opaque surface seen through the water, false "
+    imageio::WriteSpec spec{t.width, t.height, 3, imageio::PixelType::UInt8, {}, {}};
+    spec.attributes.emplace_back("Software", "Littoral");
+    spec.attributes.emplace_back("ImageDescription", "Littoral material of the first opaque surface seen through the water, false "
                                        "colour (black = nothing); the legend is NAME_legend.csv");
-    writeImage(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    writeImage(path, spec, bytes.data());
 }
 
 std::string truthLegendCsv(const TruthImages& t, const std::vector<std::string>& names,

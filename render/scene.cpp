@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/log.h"
 #include "core/material_kinds.h"
 #include "core/stderr_capture.h"
@@ -19,12 +19,12 @@ std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) 
     // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
     return quietLibraryCall([&] {
         noteInput(path);  // no output may replace it
-        auto in = OIIO::ImageInput::open(path.string());
-        if (!in) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), libraryMessage(OIIO::geterror())));
-        const OIIO::ImageSpec& spec = in->spec();
-        if (spec.nchannels != 1 || (spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.basetype != OIIO::TypeDesc::UINT16))
+        imageio::Reader in(path);
+        if (!in.ok()) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in.error()));
+        const imageio::Header& spec = in.header();
+        if (spec.channels != 1 || (!spec.storedUInt8 && !spec.storedUInt16))
             throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
-                                         path.string(), spec.nchannels, spec.format.c_str()));
+                                         path.string(), spec.channels, spec.storedType));
         auto r = std::make_shared<ClassRaster>();
         r->width = spec.width;
         r->height = spec.height;
@@ -33,14 +33,14 @@ std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) 
         r->values.resize(n);
         // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
         bool ok = false;
-        if (spec.format.basetype == OIIO::TypeDesc::UINT8) {
+        if (spec.storedUInt8) {
             std::vector<uint8_t> buf(n);
-            ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data());
+            ok = in.read(1, imageio::PixelType::UInt8, buf.data());
             std::copy(buf.begin(), buf.end(), r->values.begin());
         } else {
-            ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, r->values.data());
+            ok = in.read(1, imageio::PixelType::UInt16, r->values.data());
         }
-        if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), libraryMessage(in->geterror())));
+        if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in.error()));
         return r;
     });
 }
@@ -49,20 +49,20 @@ std::shared_ptr<Texture> loadTexture(const std::filesystem::path& path) {
     // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
     return quietLibraryCall([&] {
         noteInput(path);  // no output may replace it
-        auto in = OIIO::ImageInput::open(path.string());
-        if (!in) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), libraryMessage(OIIO::geterror())));
-        const OIIO::ImageSpec& spec = in->spec();
+        imageio::Reader in(path);
+        if (!in.ok()) throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), in.error()));
+        const imageio::Header& spec = in.header();
         auto t = std::make_shared<Texture>();
         t->width = spec.width;
         t->height = spec.height;
         if (t->width <= 0 || t->height <= 0) throw InputError(fmt::format("{}: texture has no pixels", path.string()));
-        std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-        if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-            throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), libraryMessage(in->geterror())));
+        std::vector<float> all(static_cast<size_t>(spec.width) * spec.height * spec.channels);
+        if (!in.read(spec.channels, imageio::PixelType::Float, all.data()))
+            throw InputError(fmt::format("{}: cannot read texture: {}", path.string(), in.error()));
         // 8-bit images are normalised by OIIO to [0, 1]; float images are taken as they are.
         t->values.resize(static_cast<size_t>(spec.width) * spec.height);
         for (size_t i = 0; i < t->values.size(); ++i) {
-            const float v = all[i * spec.nchannels];
+            const float v = all[i * spec.channels];
             // The texture multiplies a reflectance: a NaN, an infinity or a negative value would make
             // the radiance of every ray that lands there meaningless.
             if (!(std::isfinite(v) && v >= 0))

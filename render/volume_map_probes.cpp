@@ -201,7 +201,9 @@ CollisionPlan planCollisions(const Scene& scene, int threads) {
         // Set, but nothing for it to do: said once, not silently ignored.
         log::warnOnce("render.photons.probe_collisions is set, but no probe value can be answered from the volume "
                       "map's collisions (Ed, Eu, Eod or Eou of a probe in water that keeps a volume map, at least one "
-                      "volume search radius from a horizontal face or layer boundary): every probe value is gathered");
+                      "volume search radius from a horizontal face or layer boundary; Lu where the probe's nadir ray "
+                      "meets a black surface or nothing, in forward-peaked water only with effective scattering): "
+                      "every probe value is gathered");
         return plan;
     }
     const std::vector<BandGroup> groups = bandGroups(scene);

@@ -1,17 +1,16 @@
 #include "scenegen/synthetic_site.h"
-#include "scenegen/image_encode.h"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include "bathymetry/terrain.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/rng.h"
 #include "scenegen/mesh_io.h"
 #include "scenegen/primitives.h"
@@ -20,7 +19,6 @@ namespace littoral::scenegen {
 namespace {
 
 namespace fs = std::filesystem;
-namespace OIIO = OIIO_NAMESPACE;
 
 // ---- site geometry (metres, local frame: x east, y north) ----
 constexpr double kX0 = -45, kX1 = 45, kY0 = -30, kY1 = 30;
@@ -68,9 +66,8 @@ double valueNoise(uint64_t seed, uint64_t pass, double x, double y, double cell,
     return a * (1 - tv) + b * tv;
 }
 
-template <class T>
-void writeImageAtomic(const fs::path& target, int w, int h, const std::vector<T>& data, OIIO::TypeDesc type) {
-    writeImageFile(target, "png", OIIO::ImageSpec(w, h, 1, type), type, data.data());
+void writePng(const fs::path& target, int w, int h, const std::vector<uint8_t>& data) {
+    imageio::writeFile(target, {w, h, 1, imageio::PixelType::UInt8, {}, {}}, data.data(), "png");
 }
 
 struct Target {
@@ -177,7 +174,7 @@ void writeClassMap(const fs::path& dir, const SiteOptions& opt, const bathymetry
             const double x = kX0 + (i + 0.5) * opt.mapResolution, y = kY1 - (j + 0.5) * opt.mapResolution;
             cls[static_cast<size_t>(j) * W + i] = classAt(opt.seed, x, y, terrain.elevation(x, y), targets);
         }
-    writeImageAtomic(dir / "classes.png", W, H, cls, OIIO::TypeDesc::UINT8);
+    writePng(dir / "classes.png", W, H, cls);
     s.files.push_back(dir / "classes.png");
 }
 
@@ -196,7 +193,7 @@ void writeClassTextures(const fs::path& dir, uint64_t seed, SiteSummary& s) {
                 tex[j * 64 + i] = static_cast<uint8_t>(std::clamp(255.0 * (0.6 * a + 0.4 * b), 0.0, 255.0));
             }
         const fs::path p = dir / "textures" / (std::string(ci.name) + ".png");
-        writeImageAtomic(p, 64, 64, tex, OIIO::TypeDesc::UINT8);
+        writePng(p, 64, 64, tex);
         s.files.push_back(p);
     }
 }

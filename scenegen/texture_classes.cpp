@@ -5,19 +5,17 @@
 #include <filesystem>
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/resource_limits.h"
 #include "core/stderr_capture.h"
-#include "scenegen/image_encode.h"
 
 namespace littoral::scenegen {
 namespace {
 
-namespace OIIO = OIIO_NAMESPACE;
 
 // A grey image as floats (channel 0, or the mean of R, G, B for colour images), values in the
 // file's nominal range mapped to [0, 1] for integer formats.
@@ -25,18 +23,18 @@ std::vector<float> readGrey(const std::filesystem::path& path, const SourceLoc& 
     // libpng prints its own lines before the failure reported below (core/stderr_capture.h).
     return quietLibraryCall([&] {
         noteInput(path);  // no output may replace it
-        auto in = OIIO::ImageInput::open(path.string());
-        if (!in) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), libraryMessage(OIIO::geterror())));
-        const OIIO::ImageSpec& spec = in->spec();
+        imageio::Reader in(path);
+        if (!in.ok()) throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), in.error()));
+        const imageio::Header& spec = in.header();
         *w = spec.width;
         *h = spec.height;
-        const int nc = spec.nchannels;
+        const int nc = spec.channels;
         requireMemory(4.0 * (double(nc) + 1.0) * double(spec.width) * double(spec.height),
                       fmt::format("texture image {} ({} x {} px, {} channels) would", path.string(), spec.width, spec.height, nc),
                       where);
         std::vector<float> rgb(static_cast<size_t>(spec.width) * spec.height * nc);
-        if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, rgb.data()))
-            throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), libraryMessage(in->geterror())));
+        if (!in.read(nc, imageio::PixelType::Float, rgb.data()))
+            throw InputError(where, fmt::format("cannot read texture image {}: {}", path.string(), in.error()));
         std::vector<float> grey(static_cast<size_t>(spec.width) * spec.height);
         const int use = nc >= 3 ? 3 : 1;
         for (size_t i = 0; i < grey.size(); ++i) {
@@ -77,22 +75,21 @@ ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Exten
     return quietLibraryCall([&] {
         const SourceLoc where{path.string()};
         noteInput(path);  // no output may replace it
-        auto in = OIIO::ImageInput::open(path.string());
-        if (!in) throw InputError(where, "cannot read classification map: " + libraryMessage(OIIO::geterror()));
-        const OIIO::ImageSpec& spec = in->spec();
-        const auto base = spec.format.basetype;
+        imageio::Reader in(path);
+        if (!in.ok()) throw InputError(where, "cannot read classification map: " + in.error());
+        const imageio::Header& spec = in.header();
         // One class index per pixel: a colour image has no single index per pixel (reading its red
         // channel would turn colours into arbitrary classes such as 128).
-        if (spec.nchannels != 1)
+        if (spec.channels != 1)
             throw InputError(where, fmt::format("classification map has {} channels; it must be a single-channel image of "
                                                 "class indices (8- or 16-bit grey, not RGB or with alpha)",
-                                                spec.nchannels));
+                                                spec.channels));
         requireMemory(4.0 * double(spec.width) * double(spec.height),
                       fmt::format("a classification map of {} x {} px would", spec.width, spec.height), where);
-        if (base != OIIO::TypeDesc::UINT8 && base != OIIO::TypeDesc::UINT16)
+        if (!spec.storedUInt8 && !spec.storedUInt16)
             throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
                                                 "this image is {}",
-                                                spec.format.c_str()));
+                                                spec.storedType));
         ClassMap m;
         m.width = spec.width;
         m.height = spec.height;
@@ -100,13 +97,13 @@ ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Exten
         const size_t n = static_cast<size_t>(m.width) * m.height;
         m.value.resize(n);
         // Read channel 0 in the file's own integer type so the indices are not rescaled.
-        if (base == OIIO::TypeDesc::UINT8) {
+        if (spec.storedUInt8) {
             std::vector<uint8_t> buf(n);
-            if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT8, buf.data()))
-                throw InputError(where, "cannot read classification map: " + libraryMessage(in->geterror()));
+            if (!in.read(1, imageio::PixelType::UInt8, buf.data()))
+                throw InputError(where, "cannot read classification map: " + in.error());
             std::copy(buf.begin(), buf.end(), m.value.begin());
-        } else if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::UINT16, m.value.data())) {
-            throw InputError(where, "cannot read classification map: " + libraryMessage(in->geterror()));
+        } else if (!in.read(1, imageio::PixelType::UInt16, m.value.data())) {
+            throw InputError(where, "cannot read classification map: " + in.error());
         }
         return m;
     });
@@ -201,18 +198,16 @@ void TextureClasses::writeTextures(const std::filesystem::path& irDir) const {
     createOutputFolder(irDir / "textures");
     {
         // The class map itself, 16-bit so that any class index survives.
-        OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::UINT16);
-        spec.attribute("compression", "zip");
-        spec.attribute("DateTime", "");  // deterministic bytes
-        writeImageFile(irDir / "textures" / kClassMapFile, "tif", spec, OIIO::TypeDesc::UINT16, map.value.data());
+        const imageio::WriteSpec spec{map.width, map.height, 1, imageio::PixelType::UInt16, {},
+                                      {{"compression", "zip"}, {"DateTime", ""}}};  // "": deterministic bytes
+        imageio::writeFile(irDir / "textures" / kClassMapFile, spec, map.value.data(), "tif");
     }
     for (size_t k = 0; k < classes.size(); ++k) {
         if (textures[k].empty()) continue;
         const auto target = irDir / "textures" / (classes[k].name + ".tif");
-        OIIO::ImageSpec spec(map.width, map.height, 1, OIIO::TypeDesc::FLOAT);
-        spec.attribute("compression", "zip");
-        spec.attribute("DateTime", "");  // deterministic bytes
-        writeImageFile(target, "tif", spec, OIIO::TypeDesc::FLOAT, textures[k].data());
+        const imageio::WriteSpec spec{map.width, map.height, 1, imageio::PixelType::Float, {},
+                                      {{"compression", "zip"}, {"DateTime", ""}}};  // "": deterministic bytes
+        imageio::writeFile(target, spec, textures[k].data(), "tif");
     }
 }
 

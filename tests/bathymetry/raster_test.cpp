@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "core/image_io.h"
 #include "tests/support/test_support.h"
 
 #include "bathymetry/terrain.h"
@@ -330,14 +330,9 @@ TEST(GeoTiff, PlainInt16TiffWithCallerExtent) {
 TEST(GeoTiff, CompressedTiledTiffFromOpenImageIO) {
     const fs::path path = tempDir() / "oiio_tiled.tif";
     const float px[12] = {0, 1, 2, 3, 10, 11, 12, 13, 20, 21, 22, 23.5f};
-    OIIO::ImageSpec spec(4, 3, 1, OIIO::TypeDesc::FLOAT);
-    spec.tile_width = 16;
-    spec.tile_height = 16;
-    spec.attribute("compression", "zip");
-    auto out = OIIO::ImageOutput::create(path.string());
-    ASSERT_TRUE(out && out->open(path.string(), spec)) << OIIO::geterror();
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px));
-    out->close();
+    littoral::imageio::WriteSpec spec{4, 3, 1, littoral::imageio::PixelType::Float, {}, {{"compression", "zip"}}};
+    spec.tileWidth = spec.tileHeight = 16;
+    littoral::imageio::writeFile(path, spec, px);
     lb::RasterOptions opt;
     opt.extent = lb::Extent{0, 0, 30, 20};
     const auto t = lb::loadRaster(path, opt);

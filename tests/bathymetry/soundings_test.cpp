@@ -23,7 +23,7 @@ using littoral::RandomStream;
 
 namespace {
 
-fs::path writeText(const std::string& name, const std::string& text) {
+fs::path writeSoundingsText(const std::string& name, const std::string& text) {
     return littoral::testing_support::writeTextFile(fs::path(::testing::TempDir()) / "littoral_bathymetry_soundings",
                                                     name, text);
 }
@@ -92,7 +92,7 @@ TEST(Soundings, CsvFileRoundTrip) {
         text += fmt::format("{}, 12:00:0{}, {:.7f}, {:.7f}\r\n", depths[k], k, lons[k], lats[k]);
         if (k == 2) text += "\r\n";
     }
-    const auto path = writeText("survey.csv", text);
+    const auto path = writeSoundingsText("survey.csv", text);
     const auto soundings = lb::readSoundingsCsv(path);
     ASSERT_EQ(soundings.size(), 5u);
     EXPECT_EQ(soundings[0].line, 3);
@@ -109,7 +109,7 @@ TEST(Soundings, CsvFileRoundTrip) {
 
 TEST(Soundings, MalformedCsvNamesLineAndColumn) {
     const auto err = [](const std::string& name, const std::string& text) {
-        return inputErrorOf([&] { lb::readSoundingsCsv(writeText(name, text)); });
+        return inputErrorOf([&] { lb::readSoundingsCsv(writeSoundingsText(name, text)); });
     };
     std::string m = err("bad_number.csv", "latitude,longitude,depth\n36.1,-75.7,3\n36.2,-75.7,3.x\n");
     EXPECT_NE(m.find("bad_number.csv:3:12"), std::string::npos) << m;

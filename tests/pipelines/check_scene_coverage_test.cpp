@@ -61,7 +61,7 @@ namespace {
 
 // The small valid scene (flat water over a flat seabed at -2 m, one nadir frame sensor on line 8,
 // one probe on line 10, the material on line 6, the render settings on line 11).
-const char* const kBase = littoral::testing_support::kSmallScene;
+const char* const kCoverageBase = littoral::testing_support::kSmallScene;
 const std::string kFrame =
     "{name: nadir, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 50, gsd_m: 0.5, width: 16, height: 12}";
 const std::string kProbe = "{name: p, position: [0, 0, -1], quantities: [Ed]}";
@@ -73,7 +73,7 @@ const std::string kFloor = "{name: floor, reflectance: 0.2}";
 struct Case {
     std::string name;
     std::string what;      // the table's description
-    std::string from, to;  // the edit of kBase
+    std::string from, to;  // the edit of kCoverageBase
     std::string where;     // ":line:column" of the error
     std::string message;   // a fragment of the error
 };
@@ -411,7 +411,7 @@ TEST(CheckSceneCoverage, EveryRenderTimeRefusalIsRefusedByCheckSceneBuildAndRun)
     ASSERT_TRUE(fs::exists(littoral::testing_support::littoralBinary())) << "build the littoral target first";
     // The base scene itself is valid (else every case would pass for the wrong reason).
     {
-        const fs::path scene = writeTextFile(scratchDir("coverage", "base"), "base.yaml", kBase);
+        const fs::path scene = writeTextFile(scratchDir("coverage", "base"), "base.yaml", kCoverageBase);
         const auto r = runLittoral("--quiet check-scene " + scene.string());
         ASSERT_EQ(r.status, 0) << r.output;
     }
@@ -422,7 +422,7 @@ TEST(CheckSceneCoverage, EveryRenderTimeRefusalIsRefusedByCheckSceneBuildAndRun)
     std::vector<fs::path> scenes;
     for (const Case& c : cases()) {
         const fs::path dir = scratchDir("coverage", c.name);
-        scenes.push_back(writeTextFile(dir, c.name + ".yaml", secondEdit(c, replacedOnce(kBase, c.from, c.to))));
+        scenes.push_back(writeTextFile(dir, c.name + ".yaml", secondEdit(c, replacedOnce(kCoverageBase, c.from, c.to))));
         for (const std::string& cmd : commands)
             args.push_back("--quiet " + cmd + " " + scenes.back().string() +
                            (cmd == "check-scene" ? "" : " --out " + (dir / ("out-" + cmd)).string()));
@@ -455,7 +455,7 @@ TEST(CheckSceneCoverage, UpIsJudgedByItsDirectionAlone) {
     for (const auto& a : accepted) {
         SCOPED_TRACE(a.name);
         const fs::path dir = scratchDir("coverage", a.name);
-        const fs::path scene = writeTextFile(dir, a.name + ".yaml", replacedOnce(kBase, a.from, a.to));
+        const fs::path scene = writeTextFile(dir, a.name + ".yaml", replacedOnce(kCoverageBase, a.from, a.to));
         const auto check = runLittoral("--quiet check-scene " + scene.string());
         EXPECT_EQ(check.status, 0) << check.output;
         const auto run = runLittoral("--quiet run " + scene.string() + " --out " + (dir / "out").string());
@@ -467,7 +467,7 @@ TEST(CheckSceneCoverage, UpIsJudgedByItsDirectionAlone) {
 TEST(CheckSceneCoverage, NothingToRenderIsRefusedByRunBeforeWriting) {
     // A scene without sensors and probes may be built for its geometry: check-scene and build
     // warn; run refuses before it writes the IR.
-    std::string text = replacedOnce(kBase, "sensors:\n  - " + kFrame + "\n", "");
+    std::string text = replacedOnce(kCoverageBase, "sensors:\n  - " + kFrame + "\n", "");
     text = replacedOnce(text, "probes:\n  - " + kProbe + "\n", "");
     const fs::path dir = scratchDir("coverage", "nothing_to_render");
     const fs::path scene = writeTextFile(dir, "nothing.yaml", text);
@@ -488,7 +488,7 @@ TEST(CheckSceneCoverage, NothingToRenderIsRefusedByRunBeforeWriting) {
 TEST(CheckSceneCoverage, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheKey) {
     ASSERT_TRUE(fs::exists(littoral::testing_support::littoralBinary())) << "build the littoral target first";
     const fs::path base = scratchDir("coverage-ir", "base");
-    const fs::path scene = writeTextFile(base, "base.yaml", kBase);
+    const fs::path scene = writeTextFile(base, "base.yaml", kCoverageBase);
     const auto built = runLittoral("--quiet build " + scene.string() + " --out " + (base / "ir").string());
     ASSERT_EQ(built.status, 0) << built.output;
     Json original;

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/units.h"
 #include "render/film.h"
 #include "render/image_output.h"
 #include "tests/support/test_support.h"
@@ -23,7 +24,6 @@ using namespace littoral::testing_support;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // The checkerboard: W x H pixels of 0.25 m over the extent [ex0, ex0 + 0.25 W] x [ey0, ey0 + 0.25 H],
 // row 0 north; class (column + row) % 2.
@@ -50,7 +50,7 @@ std::string checkerboardPgm() {
     return s;
 }
 
-std::string scene(const std::string& extent) {
+std::string extentScene(const std::string& extent) {
     return "scene:\n  name: classes\n  domain: {x: [-5, 5], y: [-5, 5]}\n"
            "sun: {zenith_deg: 0, azimuth_deg: 0, irradiance: 1000}\n"
            "sky: {radiance: 0}\n"
@@ -73,7 +73,7 @@ TEST(ClassMap, MisalignedCheckerboardRendersPerHitPoint) {
     const fs::path dir = scratchDir("class_map", "checkerboard");
     writeTextFile(dir, "checks.pgm", checkerboardPgm());
     const fs::path file =
-        writeTextFile(dir, "scene.yaml", scene("{x: [" + std::to_string(kEx0) + ", " + std::to_string(kEx0 + kW * kPix) +
+        writeTextFile(dir, "scene.yaml", extentScene("{x: [" + std::to_string(kEx0) + ", " + std::to_string(kEx0 + kW * kPix) +
                                                "], y: [" + std::to_string(kEy0) + ", " + std::to_string(kEy0 + kH * kPix) + "]}"));
     const fs::path out = dir / "out";
     const CommandResult r = runLittoral("--quiet run " + file.string() + " --out " + out.string());
@@ -123,7 +123,7 @@ TEST(ClassMap, MisalignedCheckerboardRendersPerHitPoint) {
 TEST(ClassMap, MapThatDoesNotCoverTheTerrainIsALocatedError) {
     const fs::path dir = scratchDir("class_map", "uncovered");
     writeTextFile(dir, "checks.pgm", checkerboardPgm());
-    const fs::path file = writeTextFile(dir, "scene.yaml", scene("{x: [-5, 5], y: [-4, 5]}"));
+    const fs::path file = writeTextFile(dir, "scene.yaml", extentScene("{x: [-5, 5], y: [-4, 5]}"));
     for (const std::string cmd : {"check-scene", "run"}) {
         const fs::path out = dir / "out";
         const CommandResult r =

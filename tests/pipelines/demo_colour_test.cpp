@@ -14,7 +14,6 @@
 #include <sstream>
 #include <string>
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include "render/image_output.h"

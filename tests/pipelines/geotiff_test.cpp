@@ -29,7 +29,7 @@ using namespace littoral::testing_support;
 namespace {
 
 constexpr double kLat0 = 36.1833, kLon0 = -75.75;
-constexpr int kW = 40, kH = 30;
+constexpr int kGeoW = 40, kGeoH = 30;
 constexpr double kGsd = 0.1;
 
 std::string scene(const std::string& origin, const std::string& sensor) {
@@ -45,7 +45,7 @@ std::string scene(const std::string& origin, const std::string& sensor) {
 std::string nadirSensor() {
     return fmt::format("{{name: cam, type: frame, elevation_deg: 90, azimuth_deg: 0, range_m: 100, gsd_m: {}, width: {}, "
                        "height: {}, target: [1.5, -2, 0]}}",
-                       kGsd, kW, kH);
+                       kGsd, kGeoW, kGeoH);
 }
 
 struct LatLon {
@@ -102,7 +102,7 @@ std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> nadirCorner
     std::vector<std::pair<std::array<double, 2>, std::array<double, 2>>> c;
     for (int j : {0, 1})
         for (int i : {0, 1})
-            c.push_back({{double(i * kW), double(j * kH)}, {1.5 + (i - 0.5) * kW * kGsd, -2.0 - (j - 0.5) * kH * kGsd}});
+            c.push_back({{double(i * kGeoW), double(j * kGeoH)}, {1.5 + (i - 0.5) * kGeoW * kGsd, -2.0 - (j - 0.5) * kGeoH * kGsd}});
     return c;
 }
 
@@ -138,7 +138,7 @@ TEST(GeoTiff, NadirCornersLieWhereTheOriginPutsThem) {
     expectCorners(tif, independent, "GeoTIFF, local tangent plane");
     ASSERT_TRUE(tif.ok());
     EXPECT_EQ(tif.dataset()->GetRasterCount(), 2);
-    EXPECT_EQ(tif.dataset()->GetRasterXSize(), kW);
+    EXPECT_EQ(tif.dataset()->GetRasterXSize(), kGeoW);
     EXPECT_STREQ(tif.dataset()->GetRasterBand(1)->GetMetadataItem("wavelength_um"), "0.525");
     // The GeoTIFF holds the radiance image itself.
     float v = 0;

@@ -44,7 +44,7 @@ using littoral::testing_support::writeTextFile;
 
 namespace {
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quotedArg(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // Every file and folder under `dir`, relative to it ("" if `dir` does not exist).
 std::set<std::string> listing(const fs::path& dir) {
@@ -95,11 +95,11 @@ protected:
     // Writes `text` as dir/scene.yaml and runs `littoral COMMAND scene.yaml [--out out]`.
     CommandResult runScene(const std::string& command, const std::string& text, bool withOut = true) {
         writeTextFile(dir_, "scene.yaml", text);
-        return runLittoral("-q " + command + " " + q(dir_ / "scene.yaml") + (withOut ? " --out " + q(out_) : ""));
+        return runLittoral("-q " + command + " " + quotedArg(dir_ / "scene.yaml") + (withOut ? " --out " + quotedArg(out_) : ""));
     }
     // Builds kScene into dir/ir and replaces `from` by `to` in its scene.json (a hand edit).
     void editBuiltIr(const std::string& from, const std::string& to) {
-        ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status,
+        ASSERT_EQ(runLittoral("-q build " + quotedArg(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + quotedArg(dir_ / "ir")).status,
                   0);
         std::string json;
         {
@@ -150,7 +150,7 @@ TEST_F(Hostile, TraversalAbsoluteNulAndCollidingNamesAreLocatedErrors) {
 
 TEST_F(Hostile, RenderRefusesBadNamesInAnIR) {
     editBuiltIr("\"name\": \"nadir\"", "\"name\": \"../../evil\"");
-    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
+    const CommandResult r = runLittoral("-q render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.json: error: sensors[0].name: sensor name '../../evil' contains a path "
                                    "separator"))
@@ -172,7 +172,7 @@ TEST_F(Hostile, SpecialFilesAtOutputTargetsAreRefusedAndKept) {
             std::printf("mknod not permitted (not root): device case skipped, FIFO and symlink cases below\n");
             break;
         }
-        const CommandResult r = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats " + q(dev));
+        const CommandResult r = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --stats " + quotedArg(dev));
         EXPECT_EQ(r.status, 1) << r.output;
         EXPECT_TRUE(contains(r.output, dev.string() + ": error: --stats: refusing to write output: a character device "
                                                       "is in the way"))
@@ -216,12 +216,12 @@ TEST_F(Hostile, FullDiskIsAnErrorAndLeavesNothing) {
     // 200 x 150 px x 3 bands: the ENVI data alone (360 KB) exceeds the 64 KiB disk.
     std::string scene = replaced(kScene, "width: 16, height: 12", "width: 200, height: 150");
     scene = replaced(scene, "render: {", "render: {bands: [[0.4, 0.5], [0.5, 0.6], [0.6, 0.7]], ");
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", scene)) + " --out " + q(dir_ / "ir")).status, 0);
+    ASSERT_EQ(runLittoral("-q build " + quotedArg(writeTextFile(dir_, "scene.yaml", scene)) + " --out " + quotedArg(dir_ / "ir")).status, 0);
     fs::create_directories(out_);
-    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + q(dir_ / "ir") +
-                               " --out " + q(out_);
-    const std::string inner = "mount -t tmpfs -o size=64k tmpfs " + q(out_) + " && { " + render +
-                              "; rc=\\$?; echo LISTING; ls -A " + q(out_) + "; exit \\$rc; }";
+    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + quotedArg(dir_ / "ir") +
+                               " --out " + quotedArg(out_);
+    const std::string inner = "mount -t tmpfs -o size=64k tmpfs " + quotedArg(out_) + " && { " + render +
+                              "; rc=\\$?; echo LISTING; ls -A " + quotedArg(out_) + "; exit \\$rc; }";
     std::string mode;
     CommandResult r;
     for (const char* unshare : {"unshare -m", "unshare -rm"}) {
@@ -269,14 +269,14 @@ TEST_F(Hostile, LyingHeadersAreRefusedBeforeAllocating) {
     writeTextFile(dir_, "lie.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
                                    "property float y\nproperty float z\nend_header\n");
     const auto t0 = std::chrono::steady_clock::now();
-    CommandResult r = runLittoral("check-mesh " + q(dir_ / "lie.ply"));
+    CommandResult r = runLittoral("check-mesh " + quotedArg(dir_ / "lie.ply"));
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20));
     EXPECT_EQ(r.status, 2) << r.output;  // unreadable
     EXPECT_TRUE(contains(r.output, "lie.ply: PLY header declares 4000000000 vertex elements, needing at least "
                                    "48000000000 bytes of binary data, but the file holds only 0 bytes"))
         << r.output;
     writeTextFile(dir_, "abc.ply", "ply\nformat ascii 1.0\nelement vertex abc\nend_header\n");
-    r = runLittoral("check-mesh " + q(dir_ / "abc.ply"));
+    r = runLittoral("check-mesh " + quotedArg(dir_ / "abc.ply"));
     EXPECT_EQ(r.status, 2);
     EXPECT_TRUE(contains(r.output, "abc.ply:3:1: PLY header: expected 'element <name> <count>'")) << r.output;
     // The same mesh as a scene object: exit 1, located at the object's entry.
@@ -291,7 +291,7 @@ TEST_F(Hostile, LyingHeadersAreRefusedBeforeAllocating) {
     std::string stl(84, '\0');
     stl[80] = 12;
     writeTextFile(dir_, "short.stl", stl);
-    r = runLittoral("check-mesh " + q(dir_ / "short.stl"));
+    r = runLittoral("check-mesh " + quotedArg(dir_ / "short.stl"));
     EXPECT_EQ(r.status, 2);
     EXPECT_TRUE(contains(r.output, "binary STL header declares 12 triangles, which take 684 bytes, but the file has 84"))
         << r.output;
@@ -341,7 +341,7 @@ TEST_F(Hostile, SignalWhileWritingRemovesPartialOutputs) {
     big = replaced(big, "water: {optics: {preset: coastal}}\n", "");
     big = replaced(big, "probes:\n  - {name: p, position: [0, 0, -1], quantities: [Ed]}\n", "");
     big = replaced(big, "z0_m: -2", "z0_m: 0");
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", big)) + " --out " + q(dir_ / "ir")).status, 0);
+    ASSERT_EQ(runLittoral("-q build " + quotedArg(writeTextFile(dir_, "scene.yaml", big)) + " --out " + quotedArg(dir_ / "ir")).status, 0);
     for (const int sig : {SIGTERM, SIGINT}) {
         fs::remove_all(out_);
         const pid_t pid = spawnLittoral({"-q", "render", (dir_ / "ir").string(), "--out", out_.string()});
@@ -386,18 +386,18 @@ TEST_F(Hostile, UnwritableOutputsExitOneBeforeAnyWork) {
         EXPECT_TRUE(contains(r.output, "cannot create output folder") && contains(r.output, "exists and is not a folder"))
             << r.output;
     }
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
-    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "afile"));
+    ASSERT_EQ(runLittoral("-q build " + quotedArg(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + quotedArg(dir_ / "ir")).status, 0);
+    const CommandResult r = runLittoral("-q render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(dir_ / "afile"));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "afile: error: --out: cannot create output folder")) << r.output;
     // A read-only folder: a read-only tmpfs in a private mount namespace (root ignores permission
     // bits), or a folder without write permission where that is not possible (not root).
     fs::create_directories(dir_ / "ro");
-    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + q(dir_ / "ir") +
-                               " --out " + q(dir_ / "ro" / "out");
+    const std::string render = littoral::testing_support::littoralBinary().string() + " -q render " + quotedArg(dir_ / "ir") +
+                               " --out " + quotedArg(dir_ / "ro" / "out");
     std::string ro;
     for (const char* unshare : {"unshare -m", "unshare -rm"}) {
-        const std::string cmd = std::string(unshare) + " sh -c \"mount -t tmpfs -o ro tmpfs " + q(dir_ / "ro") +
+        const std::string cmd = std::string(unshare) + " sh -c \"mount -t tmpfs -o ro tmpfs " + quotedArg(dir_ / "ro") +
                                 " && " + render + "\" 2>&1; echo \"rc=$?\"";
         FILE* p = popen(cmd.c_str(), "r");
         ASSERT_TRUE(p);
@@ -409,7 +409,7 @@ TEST_F(Hostile, UnwritableOutputsExitOneBeforeAnyWork) {
     }
     if (!contains(ro, "Read-only file system") && ::geteuid() != 0) {
         fs::permissions(dir_ / "ro", fs::perms::owner_read | fs::perms::owner_exec);
-        const CommandResult p = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(dir_ / "ro" / "out"));
+        const CommandResult p = runLittoral("-q render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(dir_ / "ro" / "out"));
         ro = p.output + "rc=" + std::to_string(p.status);
         fs::permissions(dir_ / "ro", fs::perms::owner_all);
     }
@@ -422,8 +422,8 @@ TEST_F(Hostile, UnwritableOutputsExitOneBeforeAnyWork) {
     EXPECT_EQ(w.status, 1);
     EXPECT_TRUE(contains(w.output, "--out: the folder '/nonexistent-dir' does not exist")) << w.output;
     // The mesh would be overwritten by the statistics.
-    const CommandResult same = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --out " + q(dir_ / "s.ply") +
-                                           " --stats " + q(dir_ / "s.ply"));
+    const CommandResult same = runLittoral("-q waves --wind 6 --size 20 --spacing 0.5 --out " + quotedArg(dir_ / "s.ply") +
+                                           " --stats " + quotedArg(dir_ / "s.ply"));
     EXPECT_EQ(same.status, 1);
     EXPECT_TRUE(contains(same.output, "is the same file as --out")) << same.output;
     EXPECT_FALSE(fs::exists(dir_ / "s.ply"));
@@ -444,7 +444,7 @@ TEST_F(Hostile, DuplicateKeysAndDocumentsAreErrors) {
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "scene.yaml:12:1: error: a second YAML document starts here")) << r.output;
     expectNothingWritten(out_, "second document");
-    r = runLittoral("-q demo --seed -1 --out " + q(out_));
+    r = runLittoral("-q demo --seed -1 --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "--seed: Value -1 not in range")) << r.output;
     expectNothingWritten(out_, "--seed -1");
@@ -454,7 +454,7 @@ TEST_F(Hostile, DuplicateKeysAndDocumentsAreErrors) {
 
 TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
     CommandResult r = runLittoral("-q --max-memory 64M check-scene " +
-                                  q(writeTextFile(dir_, "scene.yaml", replaced(kScene, "width: 16, height: 12",
+                                  quotedArg(writeTextFile(dir_, "scene.yaml", replaced(kScene, "width: 16, height: 12",
                                                                                "width: 20000, height: 20000"))));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.yaml:8:5: error: sensors[0]: sensor 'nadir' (20000 x 20000 px x 1 bands) "
@@ -473,7 +473,7 @@ TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
         << r.output;
     expectNothingWritten(out_, "photons");
     // A hand-edited IR asking for a 100000^2 sensor.
-    ASSERT_EQ(runLittoral("-q build " + q(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + q(dir_ / "ir")).status, 0);
+    ASSERT_EQ(runLittoral("-q build " + quotedArg(writeTextFile(dir_, "scene.yaml", kScene)) + " --out " + quotedArg(dir_ / "ir")).status, 0);
     std::string json;
     {
         std::ifstream f(dir_ / "ir" / "scene.json");
@@ -481,13 +481,13 @@ TEST_F(Hostile, MemoryBudgetRefusalsNameTheSettingAndTheMemory) {
     }
     json = replaced(json, "\"width\": 16", "\"width\": 100000");
     std::ofstream(dir_ / "ir" / "scene.json") << replaced(json, "\"height\": 12", "\"height\": 100000");
-    r = runLittoral("-q --max-memory 8G render " + q(dir_ / "ir") + " --out " + q(out_));
+    r = runLittoral("-q --max-memory 8G render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.json: error: rendering sensor 'nadir' (100000 x 100000 px x 1 bands) would "
                                    "need 373 GiB of memory, more than the memory budget of 8 GiB (--max-memory)"))
         << r.output;
     expectNothingWritten(out_, "IR sensor");
-    r = runLittoral("--max-memory lots check-scene " + q(dir_ / "scene.yaml"));
+    r = runLittoral("--max-memory lots check-scene " + quotedArg(dir_ / "scene.yaml"));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "--max-memory: 'lots' is not a memory size")) << r.output;
 }
@@ -498,14 +498,14 @@ TEST_F(Hostile, NonRegularInputsAreRefused) {
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "/dev/zero: error: is a character device, not a regular file")) << r.output;
     ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0644), 0);
-    r = runLittoral("check-scene " + q(dir_ / "fifo.yaml"));
+    r = runLittoral("check-scene " + quotedArg(dir_ / "fifo.yaml"));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "fifo.yaml: error: is a FIFO (named pipe), not a regular file")) << r.output;
-    r = runLittoral("check-scene " + q(dir_));
+    r = runLittoral("check-scene " + quotedArg(dir_));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "error: is a folder, not a scene file")) << r.output;
     ASSERT_EQ(::mkfifo((dir_ / "fifo.ply").c_str(), 0644), 0);
-    r = runLittoral("check-mesh " + q(dir_ / "fifo.ply"));
+    r = runLittoral("check-mesh " + quotedArg(dir_ / "fifo.ply"));
     EXPECT_EQ(r.status, 2);
     EXPECT_TRUE(contains(r.output, "fifo.ply: is a FIFO (named pipe), not a regular file")) << r.output;
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30)) << "nothing may block on a FIFO";
@@ -567,10 +567,10 @@ TEST_F(Hostile, UnreadableInputsNameTheRealCause) {
     EXPECT_FALSE(contains(r.output, "bad file")) << r.output;
     // Class maps: an RGB image has no class index per pixel (it used to read as class 128), and a
     // value without a class is located at texture_classes with the pixel that holds it.
-    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.5,0.5,0.5 4x4 3 -d uint8 -o " + q(dir_ / "rgb.png") +
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.5,0.5,0.5 4x4 3 -d uint8 -o " + quotedArg(dir_ / "rgb.png") +
                            " > /dev/null 2>&1").c_str()),
               0);
-    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.02745098 4x4 1 -d uint8 -o " + q(dir_ / "seven.png") +
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0.02745098 4x4 1 -d uint8 -o " + quotedArg(dir_ / "seven.png") +
                            " > /dev/null 2>&1").c_str()),
               0);
     const std::string classes = replaced(kScene, "bathymetry: {type: planar_slope, z0_m: -2, material: floor}",
@@ -602,7 +602,7 @@ TEST_F(Hostile, ScatteringWaterWithoutASolverIsWarnedAbout) {
         json.assign(std::istreambuf_iterator<char>(f), {});
     }
     ASSERT_FALSE(contains(json, "\"solver\": \"medium-pm\"")) << json.substr(0, 4000);
-    const CommandResult r = runLittoral("render " + q(dir_ / "ir") + " --out " + q(out_));
+    const CommandResult r = runLittoral("render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(out_));
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "warning: medium 'water' scatters but names no solver: the dirsig estimator counts "
                                    "its scattering as loss"))
@@ -656,7 +656,7 @@ TEST_F(Hostile, MeshReadersReportTheRightCause) {
     };
     for (const auto& c : cases) {
         writeTextFile(dir_, c.file, c.text);
-        const CommandResult r = runLittoral("check-mesh " + q(dir_ / c.file));
+        const CommandResult r = runLittoral("check-mesh " + quotedArg(dir_ / c.file));
         EXPECT_EQ(r.status, c.status) << c.file << "\n" << r.output;
         EXPECT_TRUE(contains(r.output, c.cause)) << c.file << "\n" << r.output;
         EXPECT_FALSE(contains(r.output, "mesh is empty")) << c.file;
@@ -675,7 +675,7 @@ TEST_F(Hostile, CheckMeshHasNoFalseIntersectionsOrVolumes) {
     cube.positions.push_back(mid + (mid - centre) * 3.0);
     cube.triangles.push_back({t0[0], t0[1], static_cast<uint32_t>(cube.positions.size() - 1)});
     littoral::scenegen::writeMeshFile(dir_ / "fin.off", cube);
-    CommandResult r = runLittoral("check-mesh " + q(dir_ / "fin.off"));
+    CommandResult r = runLittoral("check-mesh " + quotedArg(dir_ / "fin.off"));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "not manifold: 1 edges are shared by three or more faces")) << r.output;
     EXPECT_TRUE(contains(r.output, "self-intersections 0")) << r.output;
@@ -685,7 +685,7 @@ TEST_F(Hostile, CheckMeshHasNoFalseIntersectionsOrVolumes) {
     open.faceMaterial.clear();
     open.triangles.pop_back();
     littoral::scenegen::writeMeshFile(dir_ / "open.obj", open);
-    r = runLittoral("check-mesh --json " + q(dir_ / "open.obj"));
+    r = runLittoral("check-mesh --json " + quotedArg(dir_ / "open.obj"));
     EXPECT_EQ(r.status, 1);
     EXPECT_TRUE(contains(r.output, "\"volume_m3\": null")) << r.output;
 }
@@ -709,7 +709,7 @@ TEST_F(Hostile, BuildRefusesToOverwriteItsInputs) {
  "materials": [{"name": "floor", "reflectance": 0.2}]}
 )";
     const fs::path in = writeTextFile(dir_, "scene.json", json);
-    const CommandResult r = runLittoral("-q build " + q(in) + " --out " + q(dir_));
+    const CommandResult r = runLittoral("-q build " + quotedArg(in) + " --out " + quotedArg(dir_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "refusing to write output: it would replace '" + in.string() + "'")) << r.output;
     EXPECT_EQ(fileText(in), json) << "the input scene file was changed";
@@ -724,7 +724,7 @@ TEST_F(Hostile, RunRefusesAnOutputNamedLikeAnInputUnderAnotherPath) {
     fs::create_directories(out_);
     const fs::path scene = writeTextFile(dir_, "scene.yaml", kScene);
     fs::create_hard_link(scene, out_ / "nadir.png");
-    const CommandResult r = runLittoral("-q run " + q(scene) + " --out " + q(out_));
+    const CommandResult r = runLittoral("-q run " + quotedArg(scene) + " --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "it would replace '" + scene.string() + "', which this command reads")) << r.output;
     EXPECT_EQ(fileText(scene), kScene);
@@ -749,7 +749,7 @@ TEST_F(Hostile, ASecondCommandIntoTheSameFolderIsRefused) {
     ASSERT_GT(child, 0);
     waitpid(child, nullptr, 0);
     writeTextFile(out_, littoral::OutputFolderLock::kFileName, std::to_string(child) + "\n");
-    r = runLittoral("build " + q(dir_ / "scene.yaml") + " --out " + q(out_));
+    r = runLittoral("build " + quotedArg(dir_ / "scene.yaml") + " --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "taking over the lock of process " + std::to_string(child) + ", which no longer runs"))
         << r.output;
@@ -768,7 +768,7 @@ TEST_F(Hostile, ASecondCommandIntoTheSameFolderIsRefused) {
     writeTextFile(out_, littoral::OutputFolderLock::kFileName, std::to_string(zombie) + "\n");
     fs::create_directories(out_ / "again");
     writeTextFile(out_ / "again", littoral::OutputFolderLock::kFileName, std::to_string(zombie) + "\n");
-    r = runLittoral("build " + q(dir_ / "scene.yaml") + " --out " + q(out_ / "again"));
+    r = runLittoral("build " + quotedArg(dir_ / "scene.yaml") + " --out " + quotedArg(out_ / "again"));
     waitpid(zombie, nullptr, 0);
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "taking over the lock of process " + std::to_string(zombie) + ", which no longer runs"))
@@ -779,8 +779,8 @@ TEST_F(Hostile, ASecondCommandIntoTheSameFolderIsRefused) {
 TEST_F(Hostile, TwoConcurrentRunsNeverMixTheirOutputs) {
     // Two `run`s started together into one folder: exactly one renders, the other is refused.
     writeTextFile(dir_, "scene.yaml", kScene);
-    const std::string cmd = littoral::testing_support::littoralBinary().string() + " -q run " + q(dir_ / "scene.yaml") +
-                            " --out " + q(out_) + " > /dev/null 2>&1";
+    const std::string cmd = littoral::testing_support::littoralBinary().string() + " -q run " + quotedArg(dir_ / "scene.yaml") +
+                            " --out " + quotedArg(out_) + " > /dev/null 2>&1";
     std::thread a([&] { EXPECT_GE(std::system(cmd.c_str()), 0); });
     std::thread b([&] { EXPECT_GE(std::system(cmd.c_str()), 0); });
     a.join();
@@ -816,7 +816,7 @@ TEST_F(Hostile, ResumeRefusesCheckpointsOfAnotherShape) {
                           std::to_string(imageValues) + "]}\n");
         writeTextFile(ckpt, fmt::format("image0-{}.f64", passesDone), std::string(imageValues * sizeof(double), '\0'));
     };
-    auto resume = [&] { return runLittoral("-q render " + q(out_) + " --out " + q(render) + " --resume"); };
+    auto resume = [&] { return runLittoral("-q render " + quotedArg(out_) + " --out " + quotedArg(render) + " --resume"); };
 
     checkpoint("nadir", 1, pixels);  // made with --sensor nadir; resumed for everything (it crashed)
     CommandResult r = resume();
@@ -897,7 +897,7 @@ void expectRefusedByAll(const fs::path& dir, const std::string& text, const std:
     const fs::path scene = writeTextFile(dir, "scene.yaml", text);
     for (const std::string cmd : {"check-scene", "build", "run"}) {
         const fs::path out = dir / ("out-" + cmd);
-        const CommandResult r = runLittoral("-q " + cmd + " " + q(scene) + (cmd == "check-scene" ? "" : " --out " + q(out)));
+        const CommandResult r = runLittoral("-q " + cmd + " " + quotedArg(scene) + (cmd == "check-scene" ? "" : " --out " + quotedArg(out)));
         EXPECT_EQ(r.status, 1) << cmd << ": " << r.output;
         EXPECT_TRUE(contains(r.output, "scene.yaml" + where + ": error: ")) << cmd << ": " << r.output;
         EXPECT_TRUE(contains(r.output, message)) << cmd << ": " << r.output;
@@ -910,7 +910,7 @@ void expectRefusedByAll(const fs::path& dir, const std::string& text, const std:
 TEST_F(Hostile, NonFiniteTexturePixelsAreRefusedAtTheirPixel) {
     // A NaN (or an infinity) in a class texture spread through the class's mean into every pixel
     // of the remapped texture: exit 0 with nan in probes.csv. Now refused at the texture key.
-    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + q(dir_ / "map.png") +
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + quotedArg(dir_ / "map.png") +
                            " > /dev/null 2>&1").c_str()),
               0);
     for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
@@ -928,7 +928,7 @@ TEST_F(Hostile, NonFiniteTexturePixelsAreRefusedAtTheirPixel) {
 TEST_F(Hostile, IrTexturesMustBeFiniteAndNonNegative) {
     // A hand-edited IR texture multiplies a reflectance: NaN or a negative value is refused by
     // `render`, naming the file and the pixel, and nothing is written.
-    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + q(dir_ / "map.png") +
+    ASSERT_EQ(std::system(("oiiotool --pattern constant:color=0 4x4 1 -d uint8 -o " + quotedArg(dir_ / "map.png") +
                            " > /dev/null 2>&1").c_str()),
               0);
     std::vector<float> v(16);
@@ -936,15 +936,15 @@ TEST_F(Hostile, IrTexturesMustBeFiniteAndNonNegative) {
     writePfm(dir_ / "tex.pfm", 4, 4, v);
     const fs::path ir = dir_ / "ir";
     writeTextFile(dir_, "scene.yaml", texturedScene());
-    CommandResult r = runLittoral("-q build " + q(dir_ / "scene.yaml") + " --out " + q(ir));
+    CommandResult r = runLittoral("-q build " + quotedArg(dir_ / "scene.yaml") + " --out " + quotedArg(ir));
     ASSERT_EQ(r.status, 0) << r.output;
     const fs::path tif = ir / "textures" / "sand.tif";
     for (const char* colour : {"-0.25", "nan"}) {
         fs::remove(tif);
         ASSERT_EQ(std::system(("oiiotool --pattern constant:color=" + std::string(colour) + " 4x4 1 -d float -o " +
-                               q(tif) + " > /dev/null 2>&1").c_str()),
+                               quotedArg(tif) + " > /dev/null 2>&1").c_str()),
                   0);
-        r = runLittoral("-q render " + q(ir) + " --out " + q(out_));
+        r = runLittoral("-q render " + quotedArg(ir) + " --out " + quotedArg(out_));
         EXPECT_EQ(r.status, 1) << r.output;
         EXPECT_TRUE(contains(r.output, tif.string() + ": error: texture pixel (column 0, row 0; counted from 0, row 0 "
                                                       "= north), channel 0 is " +
@@ -1103,7 +1103,7 @@ TEST_F(Hostile, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheEntry) {
     // A reflectance of 1.5 passes the IR's syntax, and the renderer refuses it; the message names
     // scene.json and the entry's JSON path, not only "material 'floor'".
     editBuiltIr("\"reflectance\": 0.2", "\"reflectance\": 1.5");
-    const CommandResult r = runLittoral("-q render " + q(dir_ / "ir") + " --out " + q(out_));
+    const CommandResult r = runLittoral("-q render " + quotedArg(dir_ / "ir") + " --out " + quotedArg(out_));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "scene.json: error: materials[") &&
                 contains(r.output, "]: material 'floor': reflectance 1.5 outside [0, 1]"))
@@ -1116,7 +1116,7 @@ TEST_F(Hostile, RenderTimeErrorsInAHandEditedIrNameSceneJsonAndTheEntry) {
 TEST_F(Hostile, StudyStatisticsAreDefinedOrLeftBlankWithAReason) {
     // The hostile report's l14: 100 volume photons per m^3 in a 24-pixel image leave the step
     // under the noise; the study wrote width_10_90_m = nan and tails of -1.28 and 3.21.
-    const CommandResult r = runLittoral("study image-quality --out " + q(out_) +
+    const CommandResult r = runLittoral("study image-quality --out " + quotedArg(out_) +
                                         " --pixels 24 --spp 1 --radii 0.25 0.6 --densities 100 --depths 1");
     ASSERT_EQ(r.status, 0) << r.output;
     std::ifstream f(out_ / "image_quality.csv");
@@ -1201,7 +1201,7 @@ TEST_F(Hostile, TruncatedPngGivesOneMessageWithoutLibpngNoise) {
     // around the real error. A 64 x 64 PNG of varied values (so its IDAT is not tiny), with its
     // IDAT cut short inside a well-formed file, and the whole file cut to half.
     const fs::path map = dir_ / "map.png", good = dir_ / "good.png";
-    ASSERT_EQ(std::system(("oiiotool --pattern noise:type=uniform:min=0:max=1 64x64 1 -d uint8 -o " + q(good) +
+    ASSERT_EQ(std::system(("oiiotool --pattern noise:type=uniform:min=0:max=1 64x64 1 -d uint8 -o " + quotedArg(good) +
                            " > /dev/null 2>&1").c_str()),
               0);
     std::string png;

@@ -28,7 +28,7 @@ using namespace littoral::testing_support;
 
 namespace {
 
-const std::string kScene = R"(scene:
+const std::string kEnergyScene = R"(scene:
   name: waves-energy
   domain: {x: [-10, 10], y: [-10, 10]}
 sun: {zenith_deg: 30, azimuth_deg: 200, irradiance: 1.0, angular_diameter_deg: 0.53}
@@ -48,7 +48,7 @@ render:
 
 // Mean irradiance on the floor (flux of its photons / domain area) and the photon count.
 std::pair<double, size_t> floorIrradiance(const std::string& surface, const std::string& name) {
-    std::string text = kScene;
+    std::string text = kEnergyScene;
     text.replace(text.find("SURFACE"), 7, surface);
     const fs::path dir = scratchDir("photon_energy", name);
     const fs::path file = writeTextFile(dir, "scene.yaml", text);

@@ -28,7 +28,7 @@ namespace {
 
 constexpr double kT9 = 4.1;  // two-sided 0.27 % of Student's t with 9 degrees of freedom
 
-fs::path sceneFile(const std::string& rel) { return fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / rel; }
+fs::path columnSceneFile(const std::string& rel) { return fs::path(LITTORAL_SOURCE_DIR) / "data_synthetic" / rel; }
 
 // `littoral run SCENE` with 2 threads; its probes, and what it printed in `output`.
 ProbeTable runScene(const std::string& name, const fs::path& scene, std::string* output) {
@@ -43,7 +43,7 @@ ProbeTable runScene(const std::string& name, const fs::path& scene, std::string*
 // and 16 directions per probe at every probe (for tests of what changes, not of the values' accuracy).
 std::string withSmallMaps(const std::string& rel) {
     std::stringstream original;
-    original << std::ifstream(sceneFile(rel)).rdbuf();
+    original << std::ifstream(columnSceneFile(rel)).rdbuf();
     std::string text = replacedOnce(replacedOnce(original.str(), "volume: 250000", "volume: 20000"), "passes: 10", "passes: 2");
     for (const std::string n : {"samples: 320", "samples: 1280"})
         for (size_t at = text.find(n); at != std::string::npos; at = text.find(n)) text.replace(at, n.size(), "samples: 16");
@@ -59,7 +59,7 @@ std::string withSmallMaps(const std::string& rel) {
 // line read 14-35 % low at up to 6 reported se). The se bounds leave room for a
 // 9-degree-of-freedom se's own spread (+-24 % at one sigma). No heavy-tailed Lu is warned about.
 TEST(PhotonMapColumns, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
-    const fs::path scene = sceneFile("mobley1993/problem5_photon_maps.yaml");
+    const fs::path scene = columnSceneFile("mobley1993/problem5_photon_maps.yaml");
     std::string output;
     const ProbeTable p = runScene("problem5", scene, &output);
     const std::map<std::string, double> depths = {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}};
@@ -81,7 +81,7 @@ TEST(PhotonMapColumns, RoughSeaAtAnEightyDegreeSunAgreesWithTheColumnSolver) {
 // on average): the slab's second-order kernel bias, (K h)^2 / 6 = 0.16 % at K = 0.2 m^-1 and
 // h = 0.5 m, and the column's own change from 8 to 16 streams (which the comparison allows).
 TEST(PhotonMapColumns, PetzoldAtAlbedoPointNineUnderAFlatSeaAgreesWithTheColumnSolver) {
-    const fs::path scene = sceneFile("mobley1993/problem2_photon_maps.yaml");
+    const fs::path scene = columnSceneFile("mobley1993/problem2_photon_maps.yaml");
     std::string output;
     const ProbeTable p = runScene("problem2", scene, &output);
     const std::map<std::string, double> depths = {{"tau1", 1}, {"tau5", 5}, {"tau10", 10}};
@@ -99,7 +99,7 @@ TEST(PhotonMapColumns, PetzoldAtAlbedoPointNineUnderAFlatSeaAgreesWithTheColumnS
 // within 2.8 se (Ed +0.8 to +1.1 %, se 0.37-0.70 %; Eou -2.2 to +2.0 %, se 0.79-1.45 %).
 TEST(PhotonMapColumns, CollisionSlabsThinWhereTheProfileFallsFast) {
     std::stringstream original;
-    original << std::ifstream(sceneFile("mobley1993/problem2_photon_maps.yaml")).rdbuf();
+    original << std::ifstream(columnSceneFile("mobley1993/problem2_photon_maps.yaml")).rdbuf();
     std::string text = replacedOnce(replacedOnce(original.str(), "absorption_per_m: 0.1", "absorption_per_m: 0.4"),
                                     "scattering_per_m: 0.9", "scattering_per_m: 3.6");
     text = replacedOnce(replacedOnce(replacedOnce(text, "[0, 0, -1]", "[0, 0, -1.5]"), "[0, 0, -5]", "[0, 0, -2.5]"),
@@ -177,7 +177,7 @@ TEST(PhotonMapColumns, CollisionsWithNothingToAnswerSaySo) {
 // chlorophyll maximum (b = 0.9 m^-1) and the clear deep water below (0.06): before the beam estimate
 // kept to the view ray's layer, Eou there read 10 % high at this radius (22 % at 0.4 m).
 TEST(PhotonMapColumns, StratifiedColumnSplitByDepthAgreesWithTheColumnSolver) {
-    const fs::path scene = sceneFile("columns/stratified_60m_photon_maps.yaml");
+    const fs::path scene = columnSceneFile("columns/stratified_60m_photon_maps.yaml");
     std::string output;
     const ProbeTable p = runScene("stratified", scene, &output);
     const std::map<std::string, double> depths = {{"z5", 5}, {"z15", 15}, {"z25", 25}, {"z40", 40}, {"z59", 59}};

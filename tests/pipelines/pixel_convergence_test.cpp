@@ -37,11 +37,11 @@ render: {{estimator: path, seed: {}{}}}
                        width, height, spp, seed, extraRender);
 }
 
-struct Render {
+struct ConvergenceRender {
     littoral::render::Film radiance, stderr_;
 };
 
-Render render(const fs::path& dir, const std::string& name, const std::string& text, int threads = 0) {
+ConvergenceRender renderRun(const fs::path& dir, const std::string& name, const std::string& text, int threads = 0) {
     const fs::path yaml = writeTextFile(dir, name + ".yaml", text), out = dir / name;
     const auto r = runLittoral(fmt::format("-q run '{}' --out '{}' --threads {}", yaml.string(), out.string(), threads));
     EXPECT_EQ(r.status, 0) << r.output;
@@ -69,13 +69,13 @@ double standardErrorOfMean(const std::vector<double>& v) {
 TEST(PixelConvergence, StandardErrorImageAgreesWithTheSpreadOfIndependentRenders) {
     const fs::path dir = scratchDir("pixel_convergence", "spread");
     constexpr int K = 8, spp = 16;
-    std::vector<Render> renders;
-    for (int k = 0; k < K; ++k) renders.push_back(render(dir, fmt::format("seed{}", k), scene(100 + k, "", spp)));
+    std::vector<ConvergenceRender> renders;
+    for (int k = 0; k < K; ++k) renders.push_back(renderRun(dir, fmt::format("seed{}", k), scene(100 + k, "", spp)));
     const size_t n = renders[0].radiance.pixels.size();
     std::vector<double> spread(n), predicted(n);
     for (size_t i = 0; i < n; ++i) {
         double s = 0, s2 = 0, se2 = 0;
-        for (const Render& r : renders) {
+        for (const ConvergenceRender& r : renders) {
             s += r.radiance.pixels[i], s2 += static_cast<double>(r.radiance.pixels[i]) * r.radiance.pixels[i];
             se2 += static_cast<double>(r.stderr_.pixels[i]) * r.stderr_.pixels[i];
         }
@@ -103,9 +103,9 @@ TEST(PixelConvergence, StandardErrorImageAgreesWithTheSpreadOfIndependentRenders
 // because a skewed pixel whose samples missed a glint has both a low mean and a low spread.
 TEST(PixelConvergence, TargetRelativeErrorIsMetInEveryPixelAndUnbiased) {
     const fs::path dir = scratchDir("pixel_convergence", "target");
-    const Render adaptive =
-        render(dir, "adaptive", scene(7, ", target_relative_error: 0.1, max_samples_per_pixel: 4096", 128, 32, 24));
-    const Render ref = render(dir, "reference", scene(8000, "", 2048, 32, 24));
+    const ConvergenceRender adaptive =
+        renderRun(dir, "adaptive", scene(7, ", target_relative_error: 0.1, max_samples_per_pixel: 4096", 128, 32, 24));
+    const ConvergenceRender ref = renderRun(dir, "reference", scene(8000, "", 2048, 32, 24));
     const size_t n = adaptive.radiance.pixels.size();
     std::vector<double> rel;
     int withinTarget = 0, withinSe = 0;
@@ -124,8 +124,8 @@ TEST(PixelConvergence, TargetRelativeErrorIsMetInEveryPixelAndUnbiased) {
     EXPECT_NEAR(bias, 0.0, 3 * biasSe);
     EXPECT_GE(fTarget, 0.954 - 3 * std::sqrt(0.954 * 0.046 / n));
     // Deterministic: one thread gives the same pixels and errors as all of them.
-    const Render oneThread =
-        render(dir, "one_thread", scene(7, ", target_relative_error: 0.1, max_samples_per_pixel: 4096", 128, 32, 24), 1);
+    const ConvergenceRender oneThread =
+        renderRun(dir, "one_thread", scene(7, ", target_relative_error: 0.1, max_samples_per_pixel: 4096", 128, 32, 24), 1);
     EXPECT_EQ(oneThread.radiance.pixels, adaptive.radiance.pixels);
     EXPECT_EQ(oneThread.stderr_.pixels, adaptive.stderr_.pixels);
 }

@@ -14,7 +14,7 @@ using namespace littoral::testing_support;
 namespace {
 
 // A small valid scene; each case replaces one line (or adds some).
-const std::string kBase = R"(scene:
+const std::string kSettingsBase = R"(scene:
   name: settings
   domain: {x: [-10, 10], y: [-10, 10]}
 sun: {zenith_deg: 30, azimuth_deg: 135, irradiance: 1000}
@@ -41,38 +41,38 @@ std::string replaceLine(const std::string& text, const std::string& from, const 
     return replacedOnce(text, from, to);
 }
 
-struct Case {
+struct SettingsCase {
     const char* name;
     std::string text;
     const char* where;    // "file:line:column" suffix expected in the message, e.g. ":12:37"
     const char* message;  // part of the message
 };
 
-void expectRefused(const Case& c) { expectSceneRefused("render_settings_cli", c.name, c.text, c.where, c.message); }
+void expectRefused(const SettingsCase& c) { expectSceneRefused("render_settings_cli", c.name, c.text, c.where, c.message); }
 
 }  // namespace
 
 TEST(RenderSettingsCli, BaseSceneIsValid) {
     const fs::path dir = scratchDir("render_settings_cli", "valid");
-    const fs::path scene = writeTextFile(dir, "valid.yaml", kBase);
+    const fs::path scene = writeTextFile(dir, "valid.yaml", kSettingsBase);
     const CommandResult r = runLittoral("--quiet run " + scene.string() + " --out " + (dir / "out").string());
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(dir / "out" / "probes.csv"));
 }
 
 TEST(RenderSettingsCli, PhaseFunctionParameterOutOfRange) {
-    expectRefused({"hg", replaceLine(kBase, "g: 0.9}", "g: 1.2}"), ":12:41", "water.optics.phase.g: 1.2 is out of range"});
+    expectRefused({"hg", replaceLine(kSettingsBase, "g: 0.9}", "g: 1.2}"), ":12:41", "water.optics.phase.g: 1.2 is out of range"});
     expectRefused({"ff",
-                   replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand, backscatter_fraction: 0.7}"),
+                   replaceLine(kSettingsBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand, backscatter_fraction: 0.7}"),
                    ":12:58", "backscatter_fraction: 0.7 is out of range"});
-    expectRefused({"ff-missing", replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand}"),
+    expectRefused({"ff-missing", replaceLine(kSettingsBase, "{type: henyey-greenstein, g: 0.9}", "{type: fournier-forand}"),
                    ":12:12", "missing required key 'backscatter_fraction'"});
-    expectRefused({"g-on-petzold", replaceLine(kBase, "{type: henyey-greenstein, g: 0.9}", "{type: petzold, g: 0.9}"),
+    expectRefused({"g-on-petzold", replaceLine(kSettingsBase, "{type: henyey-greenstein, g: 0.9}", "{type: petzold, g: 0.9}"),
                    ":12:31", "'g' is only used by the henyey-greenstein phase function"});
 }
 
 TEST(RenderSettingsCli, LayerStackWithGapsOrOverlaps) {
-    const std::string layered = replaceLine(kBase, R"(    absorption_per_m: 0.1
+    const std::string layered = replaceLine(kSettingsBase, R"(    absorption_per_m: 0.1
     scattering_per_m: 0.3
     phase: {type: henyey-greenstein, g: 0.9}
 )",
@@ -96,25 +96,25 @@ TEST(RenderSettingsCli, LayerStackWithGapsOrOverlaps) {
 }
 
 TEST(RenderSettingsCli, SettingTheEstimatorDoesNotRead) {
-    expectRefused({"hemisphere-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  hemisphere_samples: 32\n"),
+    expectRefused({"hemisphere-under-path", replaceLine(kSettingsBase, "  probe_batches: 4\n", "  probe_batches: 4\n  hemisphere_samples: 32\n"),
                    ":22:23", "render.hemisphere_samples: is set, but the 'path' estimator does not read it"});
     // Under dirsig scattering water takes the medium-pm solver, which reads the march step; water
     // whose scattering is loss (solver attenuation) has no in-scatter to march for.
     expectRefused({"march-under-dirsig",
-                   replaceLine(replaceLine(replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"),
+                   replaceLine(replaceLine(replaceLine(kSettingsBase, "  estimator: path\n", "  estimator: dirsig\n"),
                                            "    phase: {type: henyey-greenstein, g: 0.9}\n", "    solver: attenuation\n"),
                                "  probe_batches: 4\n", "  probe_batches: 4\n  march_step_m: 0.2\n"),
                    ":22:17", "render.march_step_m: is set, but the 'dirsig' estimator does not read it"});
-    expectRefused({"photons-under-path", replaceLine(kBase, "  probe_batches: 4\n", "  probe_batches: 4\n  photons: {surface: 1000}\n"),
+    expectRefused({"photons-under-path", replaceLine(kSettingsBase, "  probe_batches: 4\n", "  probe_batches: 4\n  photons: {surface: 1000}\n"),
                    ":22:22", "render.photons.surface: is set, but the 'path' estimator does not read it"});
     expectRefused({"phase-under-attenuation",
-                   replaceLine(replaceLine(kBase, "  estimator: path\n", "  estimator: dirsig\n"), "    scattering_per_m: 0.3\n",
+                   replaceLine(replaceLine(kSettingsBase, "  estimator: path\n", "  estimator: dirsig\n"), "    scattering_per_m: 0.3\n",
                                "    scattering_per_m: 0.3\n    solver: attenuation\n"),
                    ":10:5", "water.optics phase: not used: water.optics.solver attenuation treats scattering as loss"});
     expectRefused({"attenuation-under-path",
-                   replaceLine(kBase, "    scattering_per_m: 0.3\n", "    scattering_per_m: 0.3\n    solver: attenuation\n"),
+                   replaceLine(kSettingsBase, "    scattering_per_m: 0.3\n", "    scattering_per_m: 0.3\n    solver: attenuation\n"),
                    ":12:13", "the path estimator does not use medium solvers; remove solver 'attenuation'"});
-    expectRefused({"solver-under-path", replaceLine(kBase, "{name: floor, reflectance: 0.2}", "{name: floor, reflectance: 0.2, solver: generic}"),
+    expectRefused({"solver-under-path", replaceLine(kSettingsBase, "{name: floor, reflectance: 0.2}", "{name: floor, reflectance: 0.2, solver: generic}"),
                    ":15:5", "the path estimator does not use per-material solvers"});
 }
 
@@ -124,7 +124,7 @@ TEST(RenderSettingsCli, SettingTheEstimatorDoesNotRead) {
 TEST(RenderSettingsCli, PhotonMapSettings) {
     // The base with the volume map: dirsig, water solver medium-pm, photons and radius given.
     const std::string pm = replaceLine(
-        replaceLine(kBase, "    phase: {type: henyey-greenstein, g: 0.9}\n",
+        replaceLine(kSettingsBase, "    phase: {type: henyey-greenstein, g: 0.9}\n",
                     "    phase: {type: henyey-greenstein, g: 0.9}\n    solver: medium-pm\n"),
         "  estimator: path\n  probe_samples: 64\n  probe_batches: 4\n",
         "  estimator: dirsig\n  probe_samples: 64\n  probe_batches: 4\n  photons: {volume: 20000}\n"

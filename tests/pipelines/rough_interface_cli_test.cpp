@@ -15,7 +15,7 @@ using namespace littoral::testing_support;
 
 namespace {
 
-const std::string kBase = R"(scene:
+const std::string kRoughBase = R"(scene:
   name: rough
   domain: {x: [-10, 10], y: [-10, 10]}
 sun: {zenith_deg: 20, azimuth_deg: 135, irradiance: 1000}
@@ -52,7 +52,7 @@ void expectRefused(const char* name, const std::string& text, const char* where,
 
 TEST(RoughInterfaceCli, ValidSceneRendersAndCarriesTheRoughness) {
     const fs::path dir = scratchDir("rough_interface_cli", "valid");
-    const fs::path scene = writeTextFile(dir, "valid.yaml", kBase);
+    const fs::path scene = writeTextFile(dir, "valid.yaml", kRoughBase);
     const CommandResult r = runLittoral("--quiet run " + scene.string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(dir / "out" / "probes.csv"));
@@ -73,23 +73,23 @@ TEST(RoughInterfaceCli, ValidSceneRendersAndCarriesTheRoughness) {
 }
 
 TEST(RoughInterfaceCli, WindOutsideTheCoxMunkRange) {
-    expectRefused("wind-high", replaceText(kBase, "wind_speed: 6,", "wind_speed: 20,"), ":11:46",
+    expectRefused("wind-high", replaceText(kRoughBase, "wind_speed: 6,", "wind_speed: 20,"), ":11:46",
                   "water.surface.roughness.wind_speed: 20 m/s is outside the Cox-Munk range; allowed 0.01 to 14 m/s");
-    expectRefused("wind-zero", replaceText(kBase, "wind_speed: 6,", "wind_speed: 0,"), ":11:46",
+    expectRefused("wind-zero", replaceText(kRoughBase, "wind_speed: 6,", "wind_speed: 0,"), ":11:46",
                   "water.surface.roughness.wind_speed: 0 m/s is outside the Cox-Munk range");
     // Taken from a wind-driven surface: reported at the surface's wind, naming the roughness.
     expectRefused("wind-from-surface",
-                  replaceText(replaceText(kBase, "model: flat\n    size: [20, 20]",
+                  replaceText(replaceText(kRoughBase, "model: flat\n    size: [20, 20]",
                                           "model: beaufort\n    wind_speed: 30\n    size: [20, 20]\n    spacing: 1\n    triangles: 0"),
                               "wind_speed: 6, ", ""),
                   ":10:17", "taken by water.surface.roughness");
 }
 
 TEST(RoughInterfaceCli, OtherRoughnessMistakes) {
-    expectRefused("gc-slick", replaceText(kBase, "sea: clean", "sea: slick"), ":11:96",
+    expectRefused("gc-slick", replaceText(kRoughBase, "sea: clean", "sea: slick"), ":11:96",
                   "Gram-Charlier coefficients for the clean sea only");
-    expectRefused("shadowing", replaceText(kBase, "shadowing: smith-light", "shadowing: smith-lite"), ":11:113",
+    expectRefused("shadowing", replaceText(kRoughBase, "shadowing: smith-light", "shadowing: smith-lite"), ":11:113",
                   "did you mean 'smith-light'");
-    expectRefused("no-wind", replaceText(kBase, "wind_speed: 6, ", ""), ":11:16", "missing required key 'wind_speed'");
-    expectRefused("unknown-key", replaceText(kBase, "sea: clean", "sea: clean, windspeed: 3"), ":11:81", "windspeed");
+    expectRefused("no-wind", replaceText(kRoughBase, "wind_speed: 6, ", ""), ":11:16", "missing required key 'wind_speed'");
+    expectRefused("unknown-key", replaceText(kRoughBase, "sea: clean", "sea: clean, windspeed: 3"), ":11:81", "windspeed");
 }

@@ -15,7 +15,7 @@ using namespace littoral::testing_support;
 
 namespace {
 
-std::string scene(const std::string& sensorExtra) {
+std::string sensorScene(const std::string& sensorExtra) {
     return "scene: {name: sensor, domain: {x: [-5, 5], y: [-5, 5]}}\n"
            "sun: {zenith_deg: 30, irradiance: 1000}\n"
            "sky: {radiance: 0}\n"
@@ -34,7 +34,7 @@ TEST(SensorModelCli, PsfAndDetectorWriteTheirImagesBesideTheRadiance) {
     writeTextFile(dir, "psf.csv", "# a 3 x 3 kernel\n0, 1, 0\n1, 4, 1\n0, 1, 0\n");
     const fs::path file = writeTextFile(
         dir, "scene.yaml",
-        scene(", psf: {type: kernel, file: psf.csv},\n      detector: {aperture_mm: 0.5, integration_ms: 1, quantum_efficiency: "
+        sensorScene(", psf: {type: kernel, file: psf.csv},\n      detector: {aperture_mm: 0.5, integration_ms: 1, quantum_efficiency: "
               "0.5, read_noise_e: 20, full_well_e: 1000000, bits: 16}"));
     const auto r = runLittoral("run " + file.string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.status, 0) << r.output;
@@ -86,7 +86,7 @@ TEST(SensorModelCli, BadKernelsAndDetectorsAreLocatedErrors) {
         const fs::path d = dir / c.name;
         fs::create_directories(d);
         if (!c.kernel.empty()) writeTextFile(d, "k.csv", c.kernel);
-        const fs::path file = writeTextFile(d, "scene.yaml", scene(c.extra));
+        const fs::path file = writeTextFile(d, "scene.yaml", sensorScene(c.extra));
         for (const std::string cmd : {"check-scene", "build", "run"}) {
             const fs::path out = d / ("out-" + cmd);
             const auto r = runLittoral("-q " + cmd + " " + file.string() + (cmd == "check-scene" ? "" : " --out " + out.string()));

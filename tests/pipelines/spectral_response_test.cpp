@@ -21,7 +21,7 @@ using namespace littoral::testing_support;
 
 namespace {
 
-std::string scene(const std::string& bands) {
+std::string bandsScene(const std::string& bands) {
     return "scene: {name: srf, domain: {x: [-5, 5], y: [-5, 5]}}\n"
            "sun: {zenith_deg: 30, irradiance: 1000}\n"
            "sky: {radiance: 0}\n"
@@ -37,7 +37,7 @@ render::Film runBands(const std::string& name, const std::string& bands, const s
                       const std::string& extraText = "") {
     const fs::path dir = scratchDir("spectral_response", name);
     if (!extraFile.empty()) writeTextFile(dir, extraFile, extraText);
-    const fs::path file = writeTextFile(dir, "scene.yaml", scene(bands));
+    const fs::path file = writeTextFile(dir, "scene.yaml", bandsScene(bands));
     const auto r = runLittoral("-q run " + file.string() + " --out " + (dir / "out").string());
     EXPECT_EQ(r.status, 0) << r.output;
     return render::readExr(dir / "out" / "cam.exr");
@@ -106,7 +106,7 @@ TEST(SpectralResponse, BadResponsesAreLocatedErrors) {
     for (const Case& c : cases) {
         const fs::path dir = scratchDir("spectral_response", "bad_" + c.name);
         if (!c.file.empty()) writeTextFile(dir, c.file, c.text);
-        const fs::path file = writeTextFile(dir, "scene.yaml", scene(c.bands));
+        const fs::path file = writeTextFile(dir, "scene.yaml", bandsScene(c.bands));
         for (const std::string cmd : {"check-scene", "run"}) {
             const fs::path out = dir / ("out-" + cmd);
             const auto r = runLittoral("-q " + cmd + " " + file.string() + (cmd == "run" ? " --out " + out.string() : ""));

@@ -24,8 +24,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <OpenImageIO/imageio.h>
 
+#include "core/image_io.h"
 #include "core/atomic_file.h"
 #include "tests/support/test_support.h"
 
@@ -34,7 +34,7 @@ using namespace littoral::testing_support;
 
 namespace {
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string quotedPath(const fs::path& p) { return "'" + p.string() + "'"; }
 
 std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -70,12 +70,12 @@ std::set<std::string> outputFiles(const fs::path& dir) {
 }
 
 std::vector<float> exrPixels(const fs::path& p) {
-    auto in = OIIO::ImageInput::open(p.string());
-    EXPECT_TRUE(in) << p;
-    if (!in) return {};
-    const auto& spec = in->spec();
-    std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data())) << p;
+    littoral::imageio::Reader in(p);
+    EXPECT_TRUE(in.ok()) << p << ": " << in.error();
+    if (!in.ok()) return {};
+    const auto& spec = in.header();
+    std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.channels);
+    EXPECT_TRUE(in.read(spec.channels, littoral::imageio::PixelType::Float, px.data())) << p;
     return px;
 }
 
@@ -129,7 +129,7 @@ TEST(Sweep, TwoByTwoGridEqualsTheFourSingleRunsAndIsIndexed) {
     const fs::path dir = scratchDir("sweep", "two_by_two");
     const std::string vary = docExample(dir);
     EXPECT_EQ(vary, "--vary water.surface.roughness.wind_speed=3,6 --vary sun.zenith_deg=20,40");
-    auto r = runLittoral(fmt::format("-q sweep {} {} --out {}", q(dir / "study.yaml"), vary, q(dir / "study")));
+    auto r = runLittoral(fmt::format("-q sweep {} {} --out {}", quotedPath(dir / "study.yaml"), vary, quotedPath(dir / "study")));
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("sweep of 4 run(s)"), std::string::npos) << r.output;
     const std::string base = slurp(dir / "study.yaml");
@@ -142,7 +142,7 @@ TEST(Sweep, TwoByTwoGridEqualsTheFourSingleRunsAndIsIndexed) {
         const fs::path hand = dir / fmt::format("hand{}", i), single = hand / "out";
         const fs::path scene = writeTextFile(hand, "scene.yaml", text);
         fs::copy_file(dir / "sand.csv", hand / "sand.csv");
-        const auto s = runLittoral(fmt::format("-q run {} --out {}", q(scene), q(single)));
+        const auto s = runLittoral(fmt::format("-q run {} --out {}", quotedPath(scene), quotedPath(single)));
         ASSERT_EQ(s.status, 0) << s.output;
         expectSameOutputs(dir / "study" / "runs" / fmt::format("{:04d}", i), single);
     }
@@ -172,7 +172,7 @@ TEST(Sweep, TwoByTwoGridEqualsTheFourSingleRunsAndIsIndexed) {
     EXPECT_NE(slurp(dir / "study/runs/0002/scene.yaml").find((dir / "sand.csv").string()), std::string::npos);
     // The same command again runs nothing and keeps every finished run as it was.
     const std::string marker = slurp(dir / "study/runs/0001/sweep_run.json");
-    r = runLittoral(fmt::format("-q sweep {} {} --out {}", q(dir / "study.yaml"), vary, q(dir / "study")));
+    r = runLittoral(fmt::format("-q sweep {} {} --out {}", quotedPath(dir / "study.yaml"), vary, quotedPath(dir / "study")));
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("4 already done"), std::string::npos) << r.output;
     EXPECT_EQ(slurp(dir / "study/runs/0001/sweep_run.json"), marker);
@@ -209,14 +209,14 @@ TEST(Sweep, KilledAfterTwoRunsResumesWithTheOthers) {
     ASSERT_LT(markers.size(), 4u) << "the runs were too quick for the kill to land before the last";
     const int killed = static_cast<int>(markers.size());  // the run that was rendering
     std::string cmd = "-q";
-    for (size_t i = 1; i < args.size(); ++i) cmd += " " + q(args[i]);
+    for (size_t i = 1; i < args.size(); ++i) cmd += " " + quotedPath(args[i]);
     const auto r = runLittoral(cmd);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find(fmt::format("{} already done", markers.size())), std::string::npos) << r.output;
     for (const auto& [i, m] : markers) EXPECT_EQ(slurp(out / fmt::format("runs/{:04d}/sweep_run.json", i)), m) << i;
     for (int i = 0; i < 4; ++i) EXPECT_TRUE(fs::exists(out / fmt::format("runs/{:04d}/sweep_run.json", i))) << i;
     const fs::path runDir = out / fmt::format("runs/{:04d}", killed);
-    const auto s = runLittoral(fmt::format("-q run {} --out {} --threads 2", q(runDir / "scene.yaml"), q(dir / "single")));
+    const auto s = runLittoral(fmt::format("-q run {} --out {} --threads 2", quotedPath(runDir / "scene.yaml"), quotedPath(dir / "single")));
     ASSERT_EQ(s.status, 0) << s.output;
     expectSameOutputs(runDir, dir / "single");
     // Nothing the killed process was writing is left (its temporaries go with its lock).
@@ -231,7 +231,7 @@ TEST(Sweep, KilledAfterTwoRunsResumesWithTheOthers) {
 TEST(Sweep, SlurmJobArrayRunsTaskByTask) {
     const fs::path dir = scratchDir("sweep", "slurm");
     const fs::path scene = writeTextFile(dir, "scene.yaml", quickScene()), out = dir / "study";
-    const std::string cmd = fmt::format("-q sweep {} --vary sun.zenith_deg=20,40 --out {}", q(scene), q(out));
+    const std::string cmd = fmt::format("-q sweep {} --vary sun.zenith_deg=20,40 --out {}", quotedPath(scene), quotedPath(out));
     auto r = runLittoral(cmd + " --slurm");
     ASSERT_EQ(r.status, 0) << r.output;
     const std::string script = slurp(out / "sweep.sbatch");
@@ -239,7 +239,7 @@ TEST(Sweep, SlurmJobArrayRunsTaskByTask) {
     EXPECT_FALSE(fs::exists(out / "runs/0000/sweep_run.json"));
     EXPECT_EQ(csvRows(out / "index.csv").at(1).at(2), "pending");
     for (int task = 0; task < 2; ++task) {
-        const std::string sh = fmt::format("SLURM_ARRAY_TASK_ID={} SLURM_CPUS_PER_TASK=2 bash {} 2>&1", task, q(out / "sweep.sbatch"));
+        const std::string sh = fmt::format("SLURM_ARRAY_TASK_ID={} SLURM_CPUS_PER_TASK=2 bash {} 2>&1", task, quotedPath(out / "sweep.sbatch"));
         ASSERT_EQ(std::system(sh.c_str()), 0) << sh;
         EXPECT_TRUE(fs::exists(out / fmt::format("runs/{:04d}/sweep_run.json", task)));
     }
@@ -247,7 +247,7 @@ TEST(Sweep, SlurmJobArrayRunsTaskByTask) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("2 already done"), std::string::npos) << r.output;
     EXPECT_EQ(csvRows(out / "index.csv").at(2).at(2), "done");
-    const auto s = runLittoral(fmt::format("-q run {} --out {}", q(out / "runs/0001/scene.yaml"), q(dir / "single")));
+    const auto s = runLittoral(fmt::format("-q run {} --out {}", quotedPath(out / "runs/0001/scene.yaml"), quotedPath(dir / "single")));
     ASSERT_EQ(s.status, 0) << s.output;
     expectSameOutputs(out / "runs/0001", dir / "single");
     // --slurm with --task would ignore one of them: refused.
@@ -280,13 +280,13 @@ TEST(Sweep, BadVaryOptionsAreRefusedBeforeAnythingIsWritten) {
         {"sensors[x].gsd_m=1", "has a malformed index"},
     };
     for (const auto& [vary, message] : cases) {
-        const auto r = runLittoral(fmt::format("-q sweep {} --vary {} --out {}", q(scene), q(vary), q(out)));
+        const auto r = runLittoral(fmt::format("-q sweep {} --vary {} --out {}", quotedPath(scene), quotedPath(vary), quotedPath(out)));
         EXPECT_EQ(r.status, 1) << vary << ": " << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << vary << ": " << r.output;
         EXPECT_FALSE(fs::exists(out)) << vary;
     }
     // The same key twice.
-    auto r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=1 --vary sun.zenith_deg=2 --out {}", q(scene), q(out)));
+    auto r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=1 --vary sun.zenith_deg=2 --out {}", quotedPath(scene), quotedPath(out)));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("the key is varied twice"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
@@ -298,19 +298,19 @@ TEST(Sweep, AFolderHoldingSomethingElseIsRefused) {
     const fs::path dir = scratchDir("sweep", "foreign");
     const fs::path scene = writeTextFile(dir, "scene.yaml", kSmallScene), out = dir / "study";
     // The scene's own folder: it holds the scene, and no plan.
-    auto r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {}", q(scene), q(dir)));
+    auto r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {}", quotedPath(scene), quotedPath(dir)));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("the folder holds files but no sweep.json"), std::string::npos) << r.output;
     std::set<std::string> left;
     for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
     EXPECT_EQ(left, (std::set<std::string>{"scene.yaml"}));
-    ASSERT_EQ(runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {} --slurm", q(scene), q(out))).status, 0);
+    ASSERT_EQ(runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {} --slurm", quotedPath(scene), quotedPath(out))).status, 0);
     const auto before = outputFiles(out);
-    r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=20 --out {}", q(scene), q(out)));
+    r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=20 --out {}", quotedPath(scene), quotedPath(out)));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("--out holds another sweep"), std::string::npos) << r.output;
     writeTextFile(dir, "scene.yaml", replacedOnce(kSmallScene, "irradiance: 1000", "irradiance: 900"));
-    r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {}", q(scene), q(out)));
+    r = runLittoral(fmt::format("-q sweep {} --vary sun.zenith_deg=10 --out {}", quotedPath(scene), quotedPath(out)));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("runs/0000/scene.yaml: error: this run's scene differs"), std::string::npos) << r.output;
     EXPECT_EQ(outputFiles(out), before);
@@ -341,9 +341,9 @@ TEST(Resume, ProgressiveRunKilledAfterPassTwoOfFourEqualsTheUninterruptedRun) {
     ASSERT_TRUE(WIFSIGNALED(st)) << "the run ended before it could be killed";
     ASSERT_NE(slurp(state).find("\"passes_done\": 2"), std::string::npos) << slurp(state);
     ASSERT_FALSE(fs::exists(out / "nadir.img"));
-    auto r = runLittoral(fmt::format("-q run {} --out {} --resume", q(scene), q(out)));
+    auto r = runLittoral(fmt::format("-q run {} --out {} --resume", quotedPath(scene), quotedPath(out)));
     ASSERT_EQ(r.status, 0) << r.output;
-    r = runLittoral(fmt::format("-q run {} --out {}", q(scene), q(dir / "whole")));
+    r = runLittoral(fmt::format("-q run {} --out {}", quotedPath(scene), quotedPath(dir / "whole")));
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(out / "nadir_stderr.img"));
     expectSameOutputs(out, dir / "whole");
@@ -360,7 +360,7 @@ TEST(Resume, PathTracedRunKilledMidRenderEqualsTheUninterruptedRun) {
                                     "elevation_deg: 60, azimuth_deg: 90, range_m: 50, gsd_m: 0.5, width: 32, height: 24");
     text = replacedOnce(text, "probe_samples: 64, hemisphere_samples: 4", "estimator: path, probe_samples: 64");
     const fs::path scene = writeTextFile(dir, "scene.yaml", text), out = dir / "killed";
-    ASSERT_EQ(runLittoral("-q check-scene " + q(scene)).status, 0);
+    ASSERT_EQ(runLittoral("-q check-scene " + quotedPath(scene)).status, 0);
     setenv("LITTORAL_CHECKPOINT_SECONDS", "0", 1);  // save after every chunk of tiles
     const pid_t pid = spawnLittoral({"-q", "run", scene.string(), "--out", out.string(), "--threads", "1"});
     unsetenv("LITTORAL_CHECKPOINT_SECONDS");
@@ -393,10 +393,10 @@ TEST(Resume, PathTracedRunKilledMidRenderEqualsTheUninterruptedRun) {
     const std::string saved = slurp(state);
     ASSERT_NE(saved.find('1'), std::string::npos) << saved;
     ASSERT_FALSE(fs::exists(out / "nadir.img"));
-    auto r = runLittoral(fmt::format("-q run {} --out {} --resume", q(scene), q(out)));
+    auto r = runLittoral(fmt::format("-q run {} --out {} --resume", quotedPath(scene), quotedPath(out)));
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_FALSE(fs::exists(out / "render.checkpoint")) << "a finished run keeps no checkpoint";
-    r = runLittoral(fmt::format("-q run {} --out {}", q(scene), q(dir / "whole")));
+    r = runLittoral(fmt::format("-q run {} --out {}", quotedPath(scene), quotedPath(dir / "whole")));
     ASSERT_EQ(r.status, 0) << r.output;
     expectSameOutputs(out, dir / "whole");
     // A checkpoint of another scene is refused with the reason.
@@ -404,7 +404,7 @@ TEST(Resume, PathTracedRunKilledMidRenderEqualsTheUninterruptedRun) {
     writeTextFile(out / "render.checkpoint", "state.json",
                   "{\"format\": \"littoral-tile-checkpoint\", \"ir_hash\": \"1\", \"sensor\": \"\", \"generation\": 1, "
                   "\"sensors\": []}\n");
-    r = runLittoral(fmt::format("-q run {} --out {} --resume", q(scene), q(out)));
+    r = runLittoral(fmt::format("-q run {} --out {} --resume", quotedPath(scene), quotedPath(out)));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.output.find("render.checkpoint/state.json: error: --resume: the checkpoint was made by a different scene"),
               std::string::npos) << r.output;

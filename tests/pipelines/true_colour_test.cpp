@@ -5,10 +5,10 @@
 #include <cmath>
 #include <string>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "core/image_io.h"
 #include "core/colour.h"
 #include "render/image_output.h"
 #include "tests/support/test_support.h"
@@ -66,13 +66,13 @@ std::array<double, 2> decodedChromaticity(const uint8_t* px) {
 }
 
 std::vector<uint8_t> readRgbPng(const fs::path& p) {
-    auto in = OIIO::ImageInput::open(p.string());
-    EXPECT_TRUE(in) << p;
-    if (!in) return {};
-    const OIIO::ImageSpec spec = in->spec();
-    EXPECT_EQ(spec.nchannels, 3);
-    std::vector<uint8_t> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, px.data());
+    littoral::imageio::Reader in(p);
+    EXPECT_TRUE(in.ok()) << p << ": " << in.error();
+    if (!in.ok()) return {};
+    const littoral::imageio::Header spec = in.header();
+    EXPECT_EQ(spec.channels, 3);
+    std::vector<uint8_t> px(static_cast<size_t>(spec.width) * spec.height * spec.channels);
+    EXPECT_TRUE(in.read(spec.channels, littoral::imageio::PixelType::UInt8, px.data())) << in.error();
     return px;
 }
 

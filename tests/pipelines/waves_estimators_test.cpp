@@ -79,7 +79,7 @@ struct Image {
     }
 };
 
-Image render(const fs::path& dir, const std::string& name, const std::string& text) {
+Image renderImage(const fs::path& dir, const std::string& name, const std::string& text) {
     const fs::path yaml = writeTextFile(dir, name + ".yaml", text), out = dir / name;
     const auto r = runLittoral(fmt::format("-q run '{}' --out '{}'", yaml.string(), out.string()));
     EXPECT_EQ(r.status, 0) << r.output;
@@ -95,10 +95,10 @@ Image render(const fs::path& dir, const std::string& name, const std::string& te
 TEST(WavesEstimators, PathUnderACoxMunkMeshAgreesWithPhotonMapsAndWithMicrofacetRoughness) {
     const fs::path dir = scratchDir("waves_estimators", "nadir");
     const std::string mesh = "{model: cox-munk, wind_speed: 5, size: 50, spacing: 0.1}";
-    const Image path = render(dir, "path", scene(mesh, "", 64, "{estimator: path}"));
-    const Image pm = render(dir, "pm", scene(mesh, ", solver: surface-pm", 16,
+    const Image path = renderImage(dir, "path", scene(mesh, "", 64, "{estimator: path}"));
+    const Image pm = renderImage(dir, "pm", scene(mesh, ", solver: surface-pm", 16,
                                              "{photons: {surface: 6000000}, search_radius_m: {surface: 0.1}}"));
-    const Image rough = render(dir, "rough", scene("{model: flat, size: 50, roughness: {wind_speed: 5}}", "", 32,
+    const Image rough = renderImage(dir, "rough", scene("{model: flat, size: 50, roughness: {wind_speed: 5}}", "", 32,
                                                    "{estimator: path}"));
     std::printf("[ waves estimators ] nadir seabed radiance: path on the mesh %.4f +- %.4f (realisation +- %.3f), "
                 "photon map %.4f +- %.4f, flat + roughness %.4f +- %.4f\n",

@@ -17,7 +17,7 @@ namespace chi2 = littoral::testing_support::chi2;
 
 namespace {
 // The acceptance tests below (correct samplers) are 4 tests: a 1 % family-wise false alarm.
-const double kAlpha = chi2::sidakLevel(0.01, 4);
+const double kHarnessAlpha = chi2::sidakLevel(0.01, 4);
 
 Vec3 uniformSphere(RandomStream& rs) {
     const double z = 1.0 - 2.0 * rs.uniform(), phi = 2.0 * kPi * rs.uniform();
@@ -105,7 +105,7 @@ TEST(ChiSquareHarness, AcceptsCorrectSamplers) {
     const auto sphere = chi2::testSphere(
         chi2::uniformEdges(0, kPi, 12), 8, Frame{}, [](RandomStream& rs) -> std::optional<Vec3> { return uniformSphere(rs); },
         [](double, double) { return 1.0 / (4 * kPi); }, o);
-    EXPECT_FALSE(sphere.rejectedAt(kAlpha)) << sphere.summary();
+    EXPECT_FALSE(sphere.rejectedAt(kHarnessAlpha)) << sphere.summary();
 
     // A cosine-weighted hemisphere sampler about a tilted normal, binned on the hemisphere only.
     const Frame f = Frame::fromNormal(normalize(Vec3{1, 2, 3}));
@@ -117,7 +117,7 @@ TEST(ChiSquareHarness, AcceptsCorrectSamplers) {
             return f.toWorld(render::sampleCosineHemisphere(u1, u2));
         },
         [](double th, double) { return std::cos(th) / kPi; }, o);
-    EXPECT_FALSE(cosine.rejectedAt(kAlpha)) << cosine.summary();
+    EXPECT_FALSE(cosine.rejectedAt(kHarnessAlpha)) << cosine.summary();
 
     // A sampler that fails 10 % of the time; its pdf integrates to 0.9.
     o.seed = 5;
@@ -127,7 +127,7 @@ TEST(ChiSquareHarness, AcceptsCorrectSamplers) {
     };
     const auto fr = chi2::testSphere(chi2::uniformEdges(0, kPi, 10), 6, Frame{}, failing,
                                      [](double, double) { return 0.9 / (4 * kPi); }, o);
-    EXPECT_FALSE(fr.rejectedAt(kAlpha)) << fr.summary();
+    EXPECT_FALSE(fr.rejectedAt(kHarnessAlpha)) << fr.summary();
     EXPECT_GT(fr.failures, 19000);
     EXPECT_NEAR(chi2::sphereIntegral([](double, double) { return 0.9 / (4 * kPi); }), 0.9, 1e-12);
 
@@ -138,7 +138,7 @@ TEST(ChiSquareHarness, AcceptsCorrectSamplers) {
         chi2::uniformEdges(0, kPi, 30),
         [&](RandomStream& rs) -> std::optional<double> { return chi2::thetaFromOneMinusCos(hg.sampleOneMinusCos(rs.uniform())); },
         [&](double th) { return hg.eval(std::cos(th)); }, o);
-    EXPECT_FALSE(r1.rejectedAt(kAlpha)) << r1.summary();
+    EXPECT_FALSE(r1.rejectedAt(kHarnessAlpha)) << r1.summary();
 }
 
 // The harness can fail: each of these samplers is wrong, and the test must reject it at the

@@ -23,7 +23,7 @@ namespace chi2 = littoral::testing_support::chi2;
 namespace {
 
 // Chi-square tests in this file: 6 (three winds x two seas/azimuths); family false-alarm 1 %.
-const double kAlpha = chi2::sidakLevel(0.01, 6);
+const double kCoxMunkAlpha = chi2::sidakLevel(0.01, 6);
 
 CoxMunkDistribution dist(double U, CoxMunkSea sea, double azimuth = 0.0, bool gc = false) {
     return CoxMunkDistribution(CoxMunkParams{U, azimuth, sea, gc});
@@ -270,7 +270,7 @@ TEST(CoxMunkDistribution, NormalSamplingMatchesPdf) {
             o);
         std::printf("[ info ] chi2 normals U %.1f %s: p = %.3g (dof %d)\n", c.U, std::string(nameOf(c.sea)).c_str(),
                     r.pValue, r.dof);
-        EXPECT_FALSE(r.rejectedAt(kAlpha)) << r.summary();
+        EXPECT_FALSE(r.rejectedAt(kCoxMunkAlpha)) << r.summary();
     }
 }
 

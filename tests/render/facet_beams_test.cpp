@@ -40,7 +40,7 @@ namespace {
 using namespace testing;
 using M = ir::Material;
 
-constexpr double kN = 1.34, kE = 1000.0;
+constexpr double kBeamsN = 1.34, kBeamsE = 1000.0;
 
 // Snell's law in vector form for light travelling along `i` (unit) through a surface of unit
 // normal `n` (on the incident side), index ratio eta = n1 / n2.
@@ -56,11 +56,11 @@ ir::SceneIR wavyScene(double L, double depth, int n, double a) {
     s.sun.enabled = true;
     s.sun.zenith = deg2rad(30);
     s.sun.azimuth = deg2rad(20);
-    s.sun.irradiance = Spectrum::constant(kE);
+    s.sun.irradiance = Spectrum::constant(kBeamsE);
     s.sun.halfAngle = 1e-6;  // a point sun, as the brute-force reference assumes
     s.sky.radiance = Spectrum::constant(0.0);
     s.domain = {-L, L, -L, L, true};
-    s.media.push_back(water(a, 0, kN));
+    s.media.push_back(water(a, 0, kBeamsN));
     s.materials.push_back(typedMaterial("surface", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.materials.push_back(typedMaterial("periodic-wall", M::Type::Periodic));
@@ -123,7 +123,7 @@ Reference bruteForce(const ir::SceneIR& s, const Point3& p, double a) {
     };
     for (const Tri& T : top) {
         if (dot(ws, T.n) <= 0) continue;
-        const Vec3 d = snell(-ws, T.n, 1.0 / kN);
+        const Vec3 d = snell(-ws, T.n, 1.0 / kBeamsN);
         for (int ix = -3; ix <= 3; ++ix)
             for (int iy = -3; iy <= 3; ++iy) {
                 double dEdge = 0;
@@ -142,8 +142,8 @@ Reference bruteForce(const ir::SceneIR& s, const Point3& p, double a) {
                 }
                 if (blocked) continue;
                 const double cosI = dot(ws, T.n), cosT = -dot(d, T.n);
-                const double F = fresnelEq42(std::acos(cosI), 1.0, kN);
-                r.Ed += kE * (1 - F) * cosI / cosT * (-d.z) * std::exp(-a * u);
+                const double F = fresnelEq42(std::acos(cosI), 1.0, kBeamsN);
+                r.Ed += kBeamsE * (1 - F) * cosI / cosT * (-d.z) * std::exp(-a * u);
                 r.edge = std::min(r.edge, dEdge);
             }
     }
@@ -160,7 +160,7 @@ double transmittedFluxPerArea(const ir::SceneIR& s, double L) {
         if (m.faceMaterial[f] != 0) continue;
         const Vec3 N = m.faceNormalArea(f);
         const double area = 0.5 * length(N), cosI = dot(ws, normalize(N));
-        if (cosI > 0) flux += kE * (1 - fresnelEq42(std::acos(cosI), 1.0, kN)) * cosI * area;
+        if (cosI > 0) flux += kBeamsE * (1 - fresnelEq42(std::acos(cosI), 1.0, kBeamsN)) * cosI * area;
     }
     return flux / (4 * L * L);
 }
@@ -179,10 +179,10 @@ TEST(FacetBeams, SingleTiltedFacetGivesTheAnalyticBeam) {
     s.sun.enabled = true;
     s.sun.zenith = deg2rad(30);
     s.sun.azimuth = 0;
-    s.sun.irradiance = Spectrum::constant(kE);
+    s.sun.irradiance = Spectrum::constant(kBeamsE);
     s.sky.radiance = Spectrum::constant(0.0);
     s.domain = {-2, 2, -2, 2, false};
-    s.media.push_back(water(a, 0, kN));
+    s.media.push_back(water(a, 0, kBeamsN));
     s.materials.push_back(typedMaterial("surface", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     TriMesh body = box({-2, -2, -3}, {2, 2, 0}, 0, 1);
@@ -190,9 +190,9 @@ TEST(FacetBeams, SingleTiltedFacetGivesTheAnalyticBeam) {
         if (v.z == 0) v.z = t * v.x;
     s.meshes.push_back(meshOf("water", body, {"surface", "black"}, "water", "", true));
     const Vec3 ws = sunDirection(s.sun.zenith, 0), n = normalize(Vec3{-t, 0, 1});
-    const Vec3 d = snell(-ws, n, 1 / kN);
+    const Vec3 d = snell(-ws, n, 1 / kBeamsN);
     const double cosI = dot(ws, n), cosT = -dot(d, n);
-    const double E = kE * (1 - fresnelEq42(std::acos(cosI), 1.0, kN)) * cosI / cosT * (-d.z);
+    const double E = kBeamsE * (1 - fresnelEq42(std::acos(cosI), 1.0, kBeamsN)) * cosI / cosT * (-d.z);
     // The beam's edge from the facet's edge x = 2 (z = 2 t) at depth z: x_e = 2 + (z - 2 t) d_x / d_z.
     const double z = -2.0, xe = 2 + (z - 2 * t) * d.x / d.z;
     const Point3 inside{xe - 0.05, 0.3, z}, outside{xe + 0.05, 0.3, z}, centre{0.0, -0.4, -1.0};
@@ -296,10 +296,10 @@ TEST(FacetBeams, SteepWavesKeepTheFluxOfBeamsThatCrossAPeriodicWall) {
     s.render.bands = {Band{0.5, 0.6}};
     s.sun.enabled = true;
     s.sun.zenith = 0;
-    s.sun.irradiance = Spectrum::constant(kE);
+    s.sun.irradiance = Spectrum::constant(kBeamsE);
     s.sky.radiance = Spectrum::constant(0.0);
     s.domain = {-L, L, -L, L, true};
-    s.media.push_back(water(0, 0, kN));
+    s.media.push_back(water(0, 0, kBeamsN));
     s.materials.push_back(typedMaterial("surface", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.materials.push_back(typedMaterial("periodic-wall", M::Type::Periodic));
@@ -311,7 +311,7 @@ TEST(FacetBeams, SteepWavesKeepTheFluxOfBeamsThatCrossAPeriodicWall) {
         ASSERT_GT(N.z, 0) << "top face " << f << " faces down";
         const double cosI = normalize(N).z;
         steepest = std::min(steepest, rad2deg(std::acos(cosI)));
-        flux += kE * (1 - fresnelEq42(std::acos(cosI), 1.0, kN)) * cosI * 0.5 * length(N);
+        flux += kBeamsE * (1 - fresnelEq42(std::acos(cosI), 1.0, kBeamsN)) * cosI * 0.5 * length(N);
     }
     const double expected = flux / (4 * L * L);
     EXPECT_GT(90 - steepest, 67.5);  // the secant slopes of the 0.02 m facets reach 68 deg
@@ -446,7 +446,7 @@ TEST(FacetBeams, FloorIrradianceImageAgreesWithTheSurfacePhotonMapCellByCell) {
     const double n = kCells * kCells, beamMean = beamSum / n, pmMean = pmSum / n;
     // The facets' transmitted flux per area, and the flat-water value.
     const double transmitted = transmittedFluxPerArea(s, L);
-    const double flat = kE * std::cos(s.sun.zenith) * (1 - fresnelEq42(s.sun.zenith, 1.0, kN));
+    const double flat = kBeamsE * std::cos(s.sun.zenith) * (1 - fresnelEq42(s.sun.zenith, 1.0, kBeamsN));
     // The whole floor's means. The photons carry equal power (no absorption, importance off) and
     // each emitted one is stored or not by the Fresnel draw (stored share q of N emitted): the
     // photon map's relative error is sqrt((1 - q) / (q N)), about 0.02 %. The beams': the points'

@@ -2,7 +2,6 @@
 // mapping, Gaussian blur moments, truth images, and atomic failure behaviour.
 #include "render/image_output.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include "tests/support/test_support.h"
@@ -18,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/units.h"
 
 using namespace littoral;
@@ -82,19 +82,19 @@ TEST(Exr, ChannelNamesAndAttributesInTheFile) {
     const fs::path dir = scratchDir("exr_channels");
     const Film f = testFilm(4, 3);
     writeExr(dir / "r.exr", f);
-    // Read with OIIO directly, as a user's tool would.
-    auto in = OIIO::ImageInput::open((dir / "r.exr").string());
-    ASSERT_TRUE(in);
-    const OIIO::ImageSpec& spec = in->spec();
-    EXPECT_EQ(spec.nchannels, 4);
-    EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
-    std::set<std::string> names(spec.channelnames.begin(), spec.channelnames.end());
+    // Read as a generic image (core/image_io.h, OpenImageIO), as a user's tool would.
+    imageio::Reader in(dir / "r.exr");
+    ASSERT_TRUE(in.ok()) << in.error();
+    const imageio::Header& spec = in.header();
+    EXPECT_EQ(spec.channels, 4);
+    EXPECT_EQ(spec.storedType, "float");
+    std::set<std::string> names(spec.channelNames.begin(), spec.channelNames.end());
     // Centres: (0.4123456789 + 0.4312345678)/2 = 0.42179012335 -> "0.4218"; 0.55625; 1.65; 11.0.
     EXPECT_EQ(names, (std::set<std::string>{"L_0.4218um", "L_0.5563um", "L_1.6500um", "L_11.0000um"}));
-    EXPECT_EQ(spec.get_string_attribute("littoral:units"), "W m^-2 sr^-1 um^-1");
-    EXPECT_EQ(spec.get_string_attribute("littoral:band_lo_um"), "0.4123456789,0.55,1.6,10.5");
-    EXPECT_EQ(spec.get_string_attribute("littoral:band_hi_um"), "0.4312345678,0.5625,1.7,11.5");
-    in->close();
+    auto attr = [&](const char* name) { return spec.stringAttribute(name) ? *spec.stringAttribute(name) : "(none)"; };
+    EXPECT_EQ(attr("littoral:units"), "W m^-2 sr^-1 um^-1");
+    EXPECT_EQ(attr("littoral:band_lo_um"), "0.4123456789,0.55,1.6,10.5");
+    EXPECT_EQ(attr("littoral:band_hi_um"), "0.4312345678,0.5625,1.7,11.5");
 }
 
 TEST(Exr, ChannelNamesGainDecimalsOnlyWhenNeeded) {
@@ -109,12 +109,8 @@ TEST(Exr, MissingOrForeignFilesAreInputErrors) {
     EXPECT_THROW(readExr(dir / "absent.exr"), InputError);
     // An EXR without Littoral's band attributes.
     {
-        OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::FLOAT);
-        auto out = OIIO::ImageOutput::create((dir / "foreign.exr").string());
-        ASSERT_TRUE(out->open((dir / "foreign.exr").string(), spec));
         const float px[4] = {1, 2, 3, 4};
-        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px));
-        out->close();
+        imageio::writeFile(dir / "foreign.exr", {2, 2, 1, imageio::PixelType::Float, {}, {}}, px);
     }
     EXPECT_THROW(readExr(dir / "foreign.exr"), InputError);
 }
@@ -261,15 +257,14 @@ TEST(AtomicWrites, FailedRenameLeavesNoPartialFiles) {
 
 namespace {
 std::vector<uint8_t> readPng(const fs::path& p, int* w, int* h, int* nc) {
-    auto in = OIIO::ImageInput::open(p.string());
-    EXPECT_TRUE(in);
-    const OIIO::ImageSpec spec = in->spec();
+    imageio::Reader in(p);
+    EXPECT_TRUE(in.ok()) << in.error();
+    const imageio::Header spec = in.header();
     *w = spec.width;
     *h = spec.height;
-    *nc = spec.nchannels;
-    std::vector<uint8_t> px(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
-    in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, px.data());
-    in->close();
+    *nc = spec.channels;
+    std::vector<uint8_t> px(static_cast<std::size_t>(spec.width) * spec.height * spec.channels);
+    EXPECT_TRUE(in.read(spec.channels, imageio::PixelType::UInt8, px.data())) << in.error();
     return px;
 }
 }  // namespace
@@ -453,10 +448,10 @@ TEST(Truth, ExrRoundTrip) {
     t.hitDepth[2] = 3.25f;
     writeTruthExr(dir / "truth.exr", t, {"ground", "water, clear", "100%"});
     {
-        auto in = OIIO::ImageInput::open((dir / "truth.exr").string());
-        ASSERT_TRUE(in);
-        EXPECT_EQ(in->spec().get_string_attribute("littoral:materials"), "ground,water%2C clear,100%25");
-        in->close();
+        imageio::Reader in(dir / "truth.exr");
+        ASSERT_TRUE(in.ok()) << in.error();
+        ASSERT_NE(in.header().stringAttribute("littoral:materials"), nullptr);
+        EXPECT_EQ(*in.header().stringAttribute("littoral:materials"), "ground,water%2C clear,100%25");
     }
     const TruthImages r = readTruthExr(dir / "truth.exr");
     ASSERT_EQ(r.width, 3);
@@ -475,10 +470,11 @@ TEST(Truth, MaterialIdTiffIsInt32) {
     TruthImages t(4, 1);
     t.materialId = {-1, 0, 70000, 2147483647};  // beyond float's exact-integer range too
     writeMaterialIdTiff(dir / "ids.tif", t);
-    auto in = OIIO::ImageInput::open((dir / "ids.tif").string());
-    ASSERT_TRUE(in);
-    EXPECT_EQ(in->spec().format, OIIO::TypeDesc::INT32);
-    in->close();
+    {
+        imageio::Reader in(dir / "ids.tif");
+        ASSERT_TRUE(in.ok()) << in.error();
+        EXPECT_EQ(in.header().storedType, "int");
+    }
     int w = 0, h = 0;
     EXPECT_EQ(readMaterialIdTiff(dir / "ids.tif", &w, &h), t.materialId);
     EXPECT_EQ(w, 4);

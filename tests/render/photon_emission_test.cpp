@@ -39,7 +39,7 @@ namespace {
 
 // Family-wise false-alarm probability 1 % over this file's four acceptance tests (positions, sun
 // directions, sky directions, the sun fraction): Sidak's level 1 - 0.99^(1/4) = 2.5e-3 each.
-const double kAlpha = chi2::sidakLevel(0.01, 4);
+const double kEmissionAlpha = chi2::sidakLevel(0.01, 4);
 constexpr double kSunZenith = 35.0 * kPi / 180.0;
 constexpr double kHalfAngle = 0.5 * 0.53 * kPi / 180.0;
 const double kSunE[2] = {1.6, 0.9};     // W m^-2 um^-1 on a plane normal to the beam
@@ -119,7 +119,7 @@ TEST(PhotonEmission, LandingPointsAreUniformOverTheDomain) {
     }
     const auto res = chi2::testCells(observed, expected, labels, chi2::Options{});
     std::printf("[ info ] emission landing points: p = %.3g (dof %d)\n", res.pValue, res.dof);
-    EXPECT_FALSE(res.rejectedAt(kAlpha)) << res.summary();
+    EXPECT_FALSE(res.rejectedAt(kEmissionAlpha)) << res.summary();
 }
 
 // Importance emission (render/photon_pass.h): a pilot in which only the western half of the
@@ -218,9 +218,9 @@ TEST(PhotonEmission, DirectionsFollowTheSunDiscAndTheCosineWeightedSky) {
     const DirectionTests t = directionTests(300000, 12);
     std::printf("[ info ] emission directions: sun p = %.3g (dof %d), sky p = %.3g (dof %d)\n", t.sun.pValue, t.sun.dof,
                 t.sky.pValue, t.sky.dof);
-    EXPECT_FALSE(t.sun.rejectedAt(kAlpha)) << t.sun.summary();
-    EXPECT_FALSE(t.sky.rejectedAt(kAlpha)) << t.sky.summary();
-    // The source choice is binomial: the two-sided level kAlpha (2.5e-3) is 3.02 standard deviations.
+    EXPECT_FALSE(t.sun.rejectedAt(kEmissionAlpha)) << t.sun.summary();
+    EXPECT_FALSE(t.sky.rejectedAt(kEmissionAlpha)) << t.sky.summary();
+    // The source choice is binomial: the two-sided level kEmissionAlpha (2.5e-3) is 3.02 standard deviations.
     const double p = fixture().src.pSun, n = static_cast<double>(t.total);
     const double z = (static_cast<double>(t.sunCount) - n * p) / std::sqrt(n * p * (1 - p));
     std::printf("[ info ] emission: %lld of %lld from the sun, expected %.1f (z = %.2f)\n", t.sunCount, t.total, n * p, z);
@@ -232,7 +232,7 @@ TEST(PhotonEmission, RejectsAWrongSkyDistribution) {
     // zenith-heavy sky) must be rejected at the acceptance level.
     const DirectionTests t = directionTests(300000, 12, 1.1);
     std::printf("[ info ] emission, wrong sky: p = %.3g\n", t.sky.pValue);
-    EXPECT_TRUE(t.sky.rejectedAt(kAlpha)) << t.sky.summary();
+    EXPECT_TRUE(t.sky.rejectedAt(kEmissionAlpha)) << t.sky.summary();
 }
 
 TEST(PhotonEmission, EmittedPowerIntegratesToTheSourceFlux) {

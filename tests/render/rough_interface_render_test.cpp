@@ -33,8 +33,8 @@ using namespace testing;
 namespace glint = littoral::testing_support::glint;
 using M = ir::Material;
 
-constexpr double kE = 1000.0;     // sun irradiance normal to the beam, W m^-2 um^-1
-constexpr double kN = 1.34;       // water index (Ch. 4)
+constexpr double kRoughE = 1000.0;     // sun irradiance normal to the beam, W m^-2 um^-1
+constexpr double kRoughN = 1.34;       // water index (Ch. 4)
 constexpr double kSunDeg = 0.53;  // solar disc diameter
 
 ir::Material roughMaterial(double W, CoxMunkSea sea, double windAzimuth = 0.0) {
@@ -58,9 +58,9 @@ ir::SceneIR roughSea(double W, ir::Estimator estimator, double sunDeg = kSunDeg)
     s.sun.zenith = 0.0;
     s.sun.azimuth = 0.0;
     s.sun.halfAngle = 0.5 * deg2rad(sunDeg);
-    s.sun.irradiance = Spectrum::constant(kE);
+    s.sun.irradiance = Spectrum::constant(kRoughE);
     s.sky.radiance = Spectrum::constant(0.0);
-    s.media.push_back(water(0, 0, kN));
+    s.media.push_back(water(0, 0, kRoughN));
     s.materials.push_back(roughMaterial(W, CoxMunkSea::Dissertation));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.meshes.push_back(meshOf("water", box({-50, -50, -10}, {50, 50, 0}, 0, 1), {"sea", "black"}, "water", "", true));
@@ -162,7 +162,7 @@ TEST_P(GlintTransects, MatchClosedForms) {
                     const double x = up ? o : 0.0, y = up ? 0.0 : -o;
                     const double R = std::sqrt(x * x + y * y + H * H);
                     const glint::Dir toViewer{-x / R, -y / R, H / R};
-                    return kE * glint::sunDiscAverage([&](const glint::Dir& ws) { return glint::reflected(v, ws, toViewer); },
+                    return kRoughE * glint::sunDiscAverage([&](const glint::Dir& ws) { return glint::reflected(v, ws, toViewer); },
                                                       {0, 0, 1}, radius);
                 });
                 expectTransect(t, fmt::format("{} reflected W {} {}", nameOf(GetParam()), W, up ? "upwind" : "crosswind"),
@@ -171,7 +171,7 @@ TEST_P(GlintTransects, MatchClosedForms) {
             // Transmitted: the zenith sun refracted by a facet tilted by beta leaves at
             // beta - asin(sin(beta)/n) from the vertical in the water.
             {
-                const double delta = beta - std::asin(std::sin(beta) / kN);
+                const double delta = beta - std::asin(std::sin(beta) / kRoughN);
                 const double xMax = d * std::tan(delta);
                 const double f = 0.01, pitch = f * (2 * xMax / d) / N;
                 // Looking up with up = north: right = -x, image up = +y.
@@ -183,7 +183,7 @@ TEST_P(GlintTransects, MatchClosedForms) {
                     const double x = up ? -o : 0.0, y = up ? 0.0 : -o;
                     const double R = std::sqrt(x * x + y * y + d * d);
                     const glint::Dir toViewer{-x / R, -y / R, -d / R};
-                    return kE * glint::sunDiscAverage(
+                    return kRoughE * glint::sunDiscAverage(
                                     [&](const glint::Dir& ws) { return glint::transmitted(v, ws, toViewer); }, {0, 0, 1},
                                     radius);
                 });
@@ -258,7 +258,7 @@ TEST(RoughInterfaceSun, NextEventBsdfAndMisAgree) {
         const glint::SlopeVariances v = glint::dissertationSlopes(c.W);
         const Vec3 tv = -ray.d;
         const glint::Dir toViewer{tv.x, tv.y, tv.z};
-        const double ref = kE * glint::sunDiscAverage(
+        const double ref = kRoughE * glint::sunDiscAverage(
                                     [&](const glint::Dir& ws) {
                                         return c.below ? glint::transmitted(v, ws, toViewer) : glint::reflected(v, ws, toViewer);
                                     },
@@ -291,7 +291,7 @@ double zenithTransmittance(double W) {
         for (int j = 0; j < n; ++j) {
             const double zx = (-8 + 16 * (i + 0.5) / n) * su, zy = (-8 + 16 * (j + 0.5) / n) * sc;
             const double cb = 1.0 / std::sqrt(1 + zx * zx + zy * zy);
-            T += glint::slopePdf(v, zx, zy) * (1 - glint::fresnelSinTan(cb, 1.0, kN)) * (16 * su / n) * (16 * sc / n);
+            T += glint::slopePdf(v, zx, zy) * (1 - glint::fresnelSinTan(cb, 1.0, kRoughN)) * (16 * su / n) * (16 * sc / n);
         }
     return T;
 }
@@ -311,11 +311,11 @@ TEST(RoughInterfaceSun, ProbeBelowRoughSeaMeasuresTheTransmittance) {
             s.render.estimator = e;
             s.sun.enabled = true;
             s.sun.zenith = 0;
-            s.sun.irradiance = Spectrum::constant(kE);
+            s.sun.irradiance = Spectrum::constant(kRoughE);
             s.sky.radiance = Spectrum::constant(0.0);
             const double L = 20, depth = 10;
             s.domain = {-L, L, -L, L, true};
-            s.media.push_back(water(0, 0, kN));
+            s.media.push_back(water(0, 0, kRoughN));
             s.materials.push_back(roughMaterial(W, CoxMunkSea::Dissertation, 0.4));
             s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
             ir::Material wall;
@@ -332,7 +332,7 @@ TEST(RoughInterfaceSun, ProbeBelowRoughSeaMeasuresTheTransmittance) {
             s.probes.push_back(p);
             const Scene scene(s, ".");
             const auto v = evaluateProbe(scene, s.probes[0], 0, quiet());
-            const double ref = kE * zenithTransmittance(W);
+            const double ref = kRoughE * zenithTransmittance(W);
             EXPECT_NEAR(v[0].mean[0], ref, 4 * v[0].stderr_[0] + 1e-5 * ref) << nameOf(e) << " W " << W;
             EXPECT_NEAR(v[1].mean[0], 0.0, 1e-12) << "nothing comes back up from a black floor";
             std::printf("[ probe below rough sea, %s, W %g ] Ed %.6f +- %.2g (E T = %.6f)\n",

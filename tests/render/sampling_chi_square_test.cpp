@@ -64,7 +64,7 @@ namespace {
 // and 85 deg). Sidak's level per test: 1 - 0.99^(1/15) = 6.7e-4.
 constexpr double kFamilyAlpha = 0.01;
 constexpr int kAcceptanceTests = 15;
-const double kAlpha = chi2::sidakLevel(kFamilyAlpha, kAcceptanceTests);
+const double kSamplingAlpha = chi2::sidakLevel(kFamilyAlpha, kAcceptanceTests);
 
 uint64_t seed(uint64_t s) {
     if (const char* e = std::getenv("LITTORAL_TEST_SEED")) return s + 1000 * std::stoull(e);
@@ -73,7 +73,7 @@ uint64_t seed(uint64_t s) {
 
 void report(const char* what, const chi2::ChiSquareResult& r) {
     std::printf("[ info ] chi2 %-58.58s p = %.3g (dof %d, %lld samples, level %.2g)\n", what, r.pValue, r.dof, r.samples,
-                kAlpha);
+                kSamplingAlpha);
 }
 
 const std::vector<Band> kBands3 = {Band{0.40, 0.45}, Band{0.45, 0.50}, Band{0.50, 0.55}};
@@ -238,7 +238,7 @@ void expectModelMatchesMedium(const Medium& m, const FlightModel& model, BandGro
 
 void expectAccepted(const char* what, const FlightResult& r) {
     report(what, r.chi);
-    EXPECT_FALSE(r.chi.rejectedAt(kAlpha)) << what << ": " << r.chi.summary();
+    EXPECT_FALSE(r.chi.rejectedAt(kSamplingAlpha)) << what << ": " << r.chi.summary();
     // Weights: T b / pdf and T / P(pass) evaluated here from closed forms; the sampler sums the
     // same optical depths layer by layer, so they agree to rounding (a few 1e-16 per term).
     EXPECT_LT(r.worstWeightError, 1e-11) << what;
@@ -409,7 +409,7 @@ TEST(FreeFlightChiSquare, RejectsWrongDensities) {
         wrong.slabs[0].c[0] *= 1.05;
         const FlightResult r = runFreeFlight(fc, wrong);
         report("free flight, wrong: homogeneous c + 5 %", r.chi);
-        EXPECT_TRUE(r.chi.rejectedAt(kAlpha)) << r.chi.summary();
+        EXPECT_TRUE(r.chi.rejectedAt(kSamplingAlpha)) << r.chi.summary();
     }
     const Medium m = layeredThreeBands();
     const BandGroup g{0, 3};
@@ -421,7 +421,7 @@ TEST(FreeFlightChiSquare, RejectsWrongDensities) {
         for (double& c : wrong.slabs[1].c) c *= 1.05;
         const FlightResult r = runFreeFlight(fc, wrong);
         report("free flight, wrong: layered, middle layer c + 5 %", r.chi);
-        EXPECT_TRUE(r.chi.rejectedAt(kAlpha)) << r.chi.summary();
+        EXPECT_TRUE(r.chi.rejectedAt(kSamplingAlpha)) << r.chi.summary();
     }
     {
         // A sampler that ignored uBand and always flew band 0 would produce band 0's density; the
@@ -430,7 +430,7 @@ TEST(FreeFlightChiSquare, RejectsWrongDensities) {
         for (SlabModel& s : wrong.slabs) s.c.assign(3, s.c[0]);
         const FlightResult r = runFreeFlight(fc, wrong);
         report("free flight, wrong: layered, band 0's density for the mixture", r.chi);
-        EXPECT_TRUE(r.chi.rejectedAt(kAlpha)) << r.chi.summary();
+        EXPECT_TRUE(r.chi.rejectedAt(kSamplingAlpha)) << r.chi.summary();
     }
 }
 
@@ -592,7 +592,7 @@ TEST(SampleAroundChiSquare, SingleConstituentLayersFollowPdfAround) {
         EXPECT_NEAR(norm, 1.0 - deficit, 1e-9) << c.what;
         const auto r = aroundChiSquare(m, g, c.edges, 8, 100000, seed(sd++), pdf);
         report(c.what, r);
-        EXPECT_FALSE(r.rejectedAt(kAlpha)) << c.what << ": " << r.summary();
+        EXPECT_FALSE(r.rejectedAt(kSamplingAlpha)) << c.what << ": " << r.summary();
     }
 }
 
@@ -622,7 +622,7 @@ TEST(SampleAroundChiSquare, MixedLayerFollowsBandAveragedMixture) {
     EXPECT_NEAR(norm, 1.0 - deficit, 1e-9);
     const auto r = aroundChiSquare(m, g, chi2::forwardPeakedThetaEdges(1e-5, 18, 0.5, 12), 8, 300000, seed(211), pdf);
     report("around: molecular water + Petzold, 3 bands", r);
-    EXPECT_FALSE(r.rejectedAt(kAlpha)) << r.summary();
+    EXPECT_FALSE(r.rejectedAt(kSamplingAlpha)) << r.summary();
 }
 
 // Power: (a) HG sampled with g = 0.9 judged against g = 0.92; (b) the mixed layer's samples
@@ -637,7 +637,7 @@ TEST(SampleAroundChiSquare, RejectsWrongPdfs) {
                                            return wrong.evalOneMinusCos(chi2::oneMinusCosFromTheta(th));
                                        });
         report("around, wrong: HG 0.9 judged as HG 0.92", r);
-        EXPECT_TRUE(r.rejectedAt(kAlpha)) << r.summary();
+        EXPECT_TRUE(r.rejectedAt(kSamplingAlpha)) << r.summary();
     }
     {
         const Medium m = twoConstituentMedium();
@@ -649,7 +649,7 @@ TEST(SampleAroundChiSquare, RejectsWrongPdfs) {
                                            return wWrong * water.evalOneMinusCos(t) + (1 - wWrong) * particles.evalOneMinusCos(t);
                                        });
         report("around, wrong: mixture weighted by the averaged b", r);
-        EXPECT_TRUE(r.rejectedAt(kAlpha)) << r.summary();
+        EXPECT_TRUE(r.rejectedAt(kSamplingAlpha)) << r.summary();
     }
 }
 
@@ -737,7 +737,7 @@ TEST(SunDiscChiSquare, SamplesAreUniformOverTheCone) {
         const std::string what = "sun disc " + std::to_string(c.diameter).substr(0, 4) + " deg at zenith " +
                                  std::to_string(static_cast<int>(c.zenith)) + " deg";
         report(what.c_str(), r);
-        EXPECT_FALSE(r.rejectedAt(kAlpha)) << what << ": " << r.summary();
+        EXPECT_FALSE(r.rejectedAt(kSamplingAlpha)) << what << ": " << r.summary();
         EXPECT_EQ(outside, 0) << what << ": samples that inDisc rejects";
     }
 }
@@ -778,12 +778,12 @@ TEST(SunDiscChiSquare, RejectsWrongDiscs) {
         const SunSource sun = sunAt(0, 0, 0.53);
         const auto r = discChiSquare(sun, 1.01 * sun.halfAngle, 10, 12, 120000, seed(301), &outside);
         report("sun disc, wrong: 0.53 deg judged as 1 % wider", r);
-        EXPECT_TRUE(r.rejectedAt(kAlpha)) << r.summary();
+        EXPECT_TRUE(r.rejectedAt(kSamplingAlpha)) << r.summary();
     }
     {
         const SunSource sun = sunAt(85, 140, 10);
         const auto r = discChiSquare(sun, 0.99 * sun.halfAngle, 10, 12, 120000, seed(304), &outside);
         report("sun disc, wrong: 10 deg judged as 1 % narrower", r);
-        EXPECT_TRUE(r.rejectedAt(kAlpha)) << r.summary();
+        EXPECT_TRUE(r.rejectedAt(kSamplingAlpha)) << r.summary();
     }
 }

@@ -30,8 +30,8 @@ using namespace testing;
 namespace glint = littoral::testing_support::glint;
 using M = ir::Material;
 
-constexpr double kN = 1.34;
-constexpr double kE = 1000.0;  // sun irradiance normal to the beam, W m^-2 um^-1
+constexpr double kProductsN = 1.34;
+constexpr double kProductsE = 1000.0;  // sun irradiance normal to the beam, W m^-2 um^-1
 
 // A 40 m x 40 m x 5 m water box (its top the sea surface: smooth or rough `top`, sides black, a
 // sandy floor), a pier (an opaque box) standing out of it, sun at 35 deg toward the camera's side,
@@ -44,9 +44,9 @@ ir::SceneIR coastalScene(ir::Estimator estimator, bool rough, double a, double b
     s.sun.enabled = true;
     s.sun.zenith = deg2rad(35);
     s.sun.azimuth = deg2rad(90);
-    s.sun.irradiance = Spectrum::constant(kE);
+    s.sun.irradiance = Spectrum::constant(kProductsE);
     s.sky.radiance = Spectrum::constant(40.0);
-    s.media.push_back(water(a, b, kN, {"henyey-greenstein", {{"g", 0.8}}}));
+    s.media.push_back(water(a, b, kProductsN, {"henyey-greenstein", {{"g", 0.8}}}));
     if (estimator == ir::Estimator::Dirsig && b > 0) s.media.back().solver = ir::Medium::Solver::MediumPM;
     if (rough) {
         ir::Material m;
@@ -169,7 +169,7 @@ TEST(WaterProducts, PartsAddUpToTheRadianceAndLeaveItUnchanged) {
 TEST(WaterProducts, SkyReflectedOfAFlatSeaIsFresnelTimesTheSky) {
     ir::SceneIR s = uniformSkyScene();
     const double L = 1.0 / kPi;
-    s.media.push_back(water(0, 0, kN));
+    s.media.push_back(water(0, 0, kProductsN));
     s.materials.push_back(typedMaterial("sea", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.meshes.push_back(meshOf("water", box({-500, -500, -10}, {500, 500, 0}, 0, 1), {"sea", "black"}, "water", "", true));
@@ -189,7 +189,7 @@ TEST(WaterProducts, SkyReflectedOfAFlatSeaIsFresnelTimesTheSky) {
                 const Ray r = camera.generateRay(x + 0.5, y + 0.5);
                 const double theta = std::acos(-r.d.z);
                 lo = std::min(lo, rad2deg(theta)), hi = std::max(hi, rad2deg(theta));
-                const double expected = fresnelEq42(theta, 1.0, kN) * L;
+                const double expected = fresnelEq42(theta, 1.0, kProductsN) * L;
                 EXPECT_NEAR(img.products->skyReflected.at(x, y, 0), expected, 1e-6 * expected)
                     << nameOf(e) << " theta " << rad2deg(theta);
                 EXPECT_EQ(img.products->waterLeaving.at(x, y, 0), 0.0f);
@@ -222,9 +222,9 @@ TEST(WaterProducts, GlintOfARoughSeaIsTheCoxMunkClosedForm) {
         s.render.bands = {Band{0.4, 0.6}};
         s.render.estimator = e;
         s.sun.zenith = 0;
-        s.sun.irradiance = Spectrum::constant(kE);
+        s.sun.irradiance = Spectrum::constant(kProductsE);
         s.sky.radiance = Spectrum::constant(0.0);
-        s.media.push_back(water(0, 0, kN));
+        s.media.push_back(water(0, 0, kProductsN));
         ir::Material sea;
         sea.name = "sea";
         sea.type = M::Type::RoughDielectric;
@@ -255,12 +255,12 @@ TEST(WaterProducts, GlintOfARoughSeaIsTheCoxMunkClosedForm) {
             const double o = (p + 0.5 - N / 2.0) * pitch / f * H;
             const double R = std::sqrt(o * o + H * H);
             const glint::Dir toViewer{-o / R, 0, H / R};
-            const double pred = kE * glint::sunDiscAverage(
+            const double pred = kProductsE * glint::sunDiscAverage(
                                          [&](const glint::Dir& ws) { return glint::reflected(v, ws, toViewer); }, {0, 0, 1}, radius);
             peak = std::max(peak, pred);
             const double m = sum[p] / renders;
             const double se = std::sqrt(std::max(0.0, (sum2[p] - renders * m * m) / (renders - 1)) / renders);
-            EXPECT_NEAR(m, pred, 5 * se + 1e-4 * pred + 1e-9 * kE) << nameOf(e) << " pixel " << p;
+            EXPECT_NEAR(m, pred, 5 * se + 1e-4 * pred + 1e-9 * kProductsE) << nameOf(e) << " pixel " << p;
             if (se > 0) zmax = std::max(zmax, std::abs(m - pred) / se);
         }
         std::printf("[ glint part %s ] peak %.5g, max |z| %.2f\n", std::string(nameOf(e)).c_str(), peak, zmax);
@@ -288,8 +288,8 @@ TEST(WaterProducts, Ed0IsTheSunAndSkyCutByWhatShadowsTheSea) {
     ir::SceneIR s = uniformSkyScene();  // L = 1 / pi: pi L = 1
     s.sun.enabled = true;
     s.sun.zenith = 0;
-    s.sun.irradiance = Spectrum::constant(kE);
-    s.media.push_back(water(0.2, 0, kN));
+    s.sun.irradiance = Spectrum::constant(kProductsE);
+    s.media.push_back(water(0.2, 0, kProductsN));
     s.materials.push_back(typedMaterial("sea", M::Type::Dielectric));
     s.materials.push_back(material("black", M::Type::Black, M::Solver::Classic));
     s.meshes.push_back(meshOf("water", box({-100, -100, -10}, {100, 100, 0}, 0, 1), {"sea", "black"}, "water", "", true));
@@ -306,8 +306,8 @@ TEST(WaterProducts, Ed0IsTheSunAndSkyCutByWhatShadowsTheSea) {
                 a.products->ed0.at(0, 0, 0), expected, se, F, b.products->ed0.at(0, 0, 0));
     EXPECT_NEAR(a.products->ed0.at(0, 0, 0), expected, 4 * se);
     const double alpha = s.sun.halfAngle;
-    EXPECT_NEAR(b.products->ed0.at(0, 0, 0), kE * (1 + std::cos(alpha)) / 2 + 1.0,
-                4 * kE * alpha * alpha / (2 * std::sqrt(12.0)) / std::sqrt(64.0) + 1e-4);
+    EXPECT_NEAR(b.products->ed0.at(0, 0, 0), kProductsE * (1 + std::cos(alpha)) / 2 + 1.0,
+                4 * kProductsE * alpha * alpha / (2 * std::sqrt(12.0)) / std::sqrt(64.0) + 1e-4);
 }
 
 }  // namespace

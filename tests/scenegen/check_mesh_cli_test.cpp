@@ -50,7 +50,6 @@ CliRun run(const std::string& args, const fs::path& dir) {
     return r;
 }
 
-fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 // Binary little-endian PLY with float vertices, written by hand so a NaN can be stored.
 void writeFloatPly(const fs::path& p, const TriMesh& m) {
@@ -76,7 +75,7 @@ void writeFloatPly(const fs::path& p, const TriMesh& m) {
 }  // namespace
 
 TEST(CheckMeshCli, ExitCodesAndReasons) {
-    const fs::path dir = tempDir("cli");
+    const fs::path dir = testing_support::scratchDir("scenegen", "cli");
     const TriMesh box = makeBox(2, 3, 4);
     writeMeshFile(dir / "box.obj", box);
 
@@ -115,7 +114,7 @@ TEST(CheckMeshCli, ExitCodesAndReasons) {
 }
 
 TEST(CheckMeshCli, JsonReportAndRepair) {
-    const fs::path dir = tempDir("cli_json");
+    const fs::path dir = testing_support::scratchDir("scenegen", "cli_json");
     TriMesh inward = makeBox(2, 3, 4);
     for (auto& t : inward.triangles) std::swap(t[1], t[2]);
     writeMeshFile(dir / "inward.stl", inward);
@@ -135,7 +134,7 @@ TEST(CheckMeshCli, JsonReportAndRepair) {
 }
 
 TEST(BuildCli, BuildsTheSiteAndRefusesABrokenObject) {
-    const fs::path dir = tempDir("cli_build");
+    const fs::path dir = testing_support::scratchDir("scenegen", "cli_build");
     SiteOptions opt;
     opt.surfaceTriangles = 4000;
     const SiteSummary site = writeSyntheticSite(dir / "site", opt);

@@ -20,7 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 double areaWithSlot(const TriMesh& m, uint16_t slot) {
     double a = 0;
@@ -72,7 +71,7 @@ TEST(Primitives, ClosedFormVolumesAndAreas) {
 }
 
 TEST(MeshIO, RoundTripThroughEveryFormat) {
-    const fs::path dir = tempDir("mesh_io");
+    const fs::path dir = testing_support::scratchDir("scenegen", "mesh_io");
     const TriMesh box = makeBox(2, 3, 4);
     for (const char* ext : {".obj", ".off", ".stl", ".ply"}) {
         const fs::path p = dir / (std::string("box") + ext);
@@ -87,7 +86,7 @@ TEST(MeshIO, RoundTripThroughEveryFormat) {
 }
 
 TEST(MeshIO, UnreadableFilesRaiseMeshReadError) {
-    const fs::path dir = tempDir("mesh_io_bad");
+    const fs::path dir = testing_support::scratchDir("scenegen", "mesh_io_bad");
     std::ofstream(dir / "empty.obj").close();
     EXPECT_THROW(readMeshFile(dir / "empty.obj"), MeshReadError);
     EXPECT_THROW(readMeshFile(dir / "missing.obj"), MeshReadError);
@@ -101,7 +100,7 @@ TEST(MeshIO, UnreadableFilesRaiseMeshReadError) {
 TEST(MeshIO, KeepsAFlippedFaceAsStored) {
     // OpenMesh's own importer would detach a face it cannot insert; the soup importer must keep it
     // so the check can call it flipped.
-    const fs::path dir = tempDir("mesh_io_flip");
+    const fs::path dir = testing_support::scratchDir("scenegen", "mesh_io_flip");
     TriMesh box = makeBox(1, 1, 1);
     std::swap(box.triangles[2][1], box.triangles[2][2]);
     writeMeshFile(dir / "flip.obj", box);
@@ -140,7 +139,7 @@ TEST(Placement, HeadingIsClockwiseFromNorth) {
 }
 
 TEST(Placement, LatLonThroughTheGeoFrameAndValidation) {
-    const fs::path dir = tempDir("placement");
+    const fs::path dir = testing_support::scratchDir("scenegen", "placement");
     writeMeshFile(dir / "buoy.ply", makeBuoy(0.5, 2));
     const auto frame = bathymetry::GeoFrame::localCartesian(36.18, -75.75, 0);
     ObjectSpec s;

@@ -19,26 +19,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
+std::string slurpBinary(const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     std::stringstream s;
     s << f.rdbuf();
     return s.str();
 }
 
-fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 }  // namespace
 
 TEST(SyntheticSite, SameSeedSameBytesAndSmallFiles) {
-    const fs::path a = tempDir("site_a"), b = tempDir("site_b");
+    const fs::path a = testing_support::scratchDir("scenegen", "site_a"), b = testing_support::scratchDir("scenegen", "site_b");
     SiteOptions opt;
     opt.seed = 7;
     const SiteSummary sa = writeSyntheticSite(a, opt);
     const SiteSummary sb = writeSyntheticSite(b, opt);
     ASSERT_EQ(sa.files.size(), sb.files.size());
     for (size_t i = 0; i < sa.files.size(); ++i)
-        EXPECT_EQ(slurp(sa.files[i]), slurp(sb.files[i])) << sa.files[i].filename();
+        EXPECT_EQ(slurpBinary(sa.files[i]), slurpBinary(sb.files[i])) << sa.files[i].filename();
     // Commit-worthy: the whole site under 2 MB.
     EXPECT_LT(sa.totalBytes, 2u * 1024 * 1024);
     // Step targets 0.75 m apart in depth (spec/seed-ch05-10.md §3.1).
@@ -46,15 +45,15 @@ TEST(SyntheticSite, SameSeedSameBytesAndSmallFiles) {
     for (size_t k = 1; k < 4; ++k) EXPECT_DOUBLE_EQ(sa.targetTopDepths[k] - sa.targetTopDepths[k - 1], 0.75);
     // Another seed changes the random parts (the classification map's patches).
     opt.seed = 8;
-    const fs::path c = tempDir("site_c");
+    const fs::path c = testing_support::scratchDir("scenegen", "site_c");
     writeSyntheticSite(c, opt);
-    EXPECT_NE(slurp(a / "classes.png"), slurp(c / "classes.png"));
+    EXPECT_NE(slurpBinary(a / "classes.png"), slurpBinary(c / "classes.png"));
 }
 
 // Inside a command's output set (demo) the site must be complete on disk when the function returns:
 // the build that follows reads it back, and its sizes are read from disk.
 TEST(SyntheticSite, IsPublishedInsideAnOutputSet) {
-    const fs::path d = tempDir("site_in_set");
+    const fs::path d = testing_support::scratchDir("scenegen", "site_in_set");
     OutputSet set;
     const SiteSummary s = writeSyntheticSite(d, SiteOptions{});
     for (const auto& f : s.files) EXPECT_TRUE(fs::is_regular_file(f)) << f;
@@ -63,7 +62,7 @@ TEST(SyntheticSite, IsPublishedInsideAnOutputSet) {
 }
 
 TEST(SyntheticSite, BuildsAndPassesEveryValidityCheck) {
-    const fs::path site = tempDir("site_build"), out = tempDir("site_build_ir");
+    const fs::path site = testing_support::scratchDir("scenegen", "site_build"), out = testing_support::scratchDir("scenegen", "site_build_ir");
     SiteOptions opt;
     opt.seed = 2010;
     opt.surfaceTriangles = 6000;  // the full 30,000-triangle build is the benchmark (bench_build)
@@ -119,7 +118,7 @@ TEST(SyntheticSite, BuildsAndPassesEveryValidityCheck) {
 TEST(Assembly, DryScenesGetLandOnlyAndBadReferencesAreNamed) {
     // No water section: the whole terrain over the domain is land. A planar slope over a
     // 30 m x 20 m domain has plan area 600 m^2 and true area 600 sqrt(1 + 0.1^2) m^2.
-    const fs::path dir = tempDir("dry_scene");
+    const fs::path dir = testing_support::scratchDir("scenegen", "dry_scene");
     std::ofstream(dir / "dry.yaml") << "scene: {name: dry, domain: {x: [0, 30], y: [0, 20]}}\nsky: {model: uniform, radiance: 10}\n"
                                        "bathymetry: {type: planar_slope, z0_m: 1, slope_x: 0.1, material: sand, spacing_m: 2}\n"
                                        "materials:\n  - {name: sand, reflectance: 0.3}\n";

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include <OpenImageIO/imageio.h>
+#include "core/image_io.h"
 
 #include "scenegen/texture_classes.h"
 
@@ -16,16 +16,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempDir(const std::string& name) { return testing_support::scratchDir("scenegen", name); }
 
 template <class T>
-void writeImage(const fs::path& p, int w, int h, int nc, const std::vector<T>& data, OIIO::TypeDesc type) {
-    auto out = OIIO::ImageOutput::create(p.string());
-    ASSERT_TRUE(out);
-    OIIO::ImageSpec spec(w, h, nc, type);
-    ASSERT_TRUE(out->open(p.string(), spec));
-    ASSERT_TRUE(out->write_image(type, data.data()));
-    out->close();
+void writeImage(const fs::path& p, int w, int h, int nc, const std::vector<T>& data, imageio::PixelType type) {
+    imageio::writeFile(p, {w, h, nc, type, {}, {}}, data.data());
 }
 
 }  // namespace
@@ -62,12 +56,12 @@ TEST(TextureRemap, HitsTheTargetMeanAndStandardDeviationOverTheClassOnly) {
 }
 
 TEST(TextureClasses, MapLookupRemapAndUnknownClass) {
-    const fs::path dir = tempDir("texture_classes");
+    const fs::path dir = testing_support::scratchDir("scenegen", "texture_classes");
     // 4 x 2 map: west half class 3, east half class 7 (row 0 = north).
     const std::vector<uint8_t> map = {3, 3, 7, 7, 3, 3, 7, 7};
-    writeImage(dir / "classes.png", 4, 2, 1, map, OIIO::TypeDesc::UINT8);
+    writeImage(dir / "classes.png", 4, 2, 1, map, imageio::PixelType::UInt8);
     // Texture 2 x 1 grey: values 0 and 1 (8-bit 0 and 255).
-    writeImage(dir / "tex.png", 2, 1, 1, std::vector<uint8_t>{0, 255}, OIIO::TypeDesc::UINT8);
+    writeImage(dir / "tex.png", 2, 1, 1, std::vector<uint8_t>{0, 255}, imageio::PixelType::UInt8);
     TextureClassesSpec spec;
     spec.map = dir / "classes.png";
     spec.extent = bathymetry::Extent{0, 0, 40, 10};
@@ -100,10 +94,12 @@ TEST(TextureClasses, MapLookupRemapAndUnknownClass) {
     EXPECT_EQ(mats[1].type, ir::Material::Type::Lambertian);
     EXPECT_NEAR(tc.coverage()[0], 0.5, 1e-15);
     tc.writeTextures(dir / "ir");
-    auto in = OIIO::ImageInput::open((dir / "ir" / "textures" / "sand.tif").string());
-    ASSERT_TRUE(in);
-    EXPECT_EQ(in->spec().width, 4);
-    EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT);
+    {
+        imageio::Reader in(dir / "ir" / "textures" / "sand.tif");
+        ASSERT_TRUE(in.ok()) << in.error();
+        EXPECT_EQ(in.header().width, 4);
+        EXPECT_EQ(in.header().storedType, "float");
+    }
 
     // A map value without a class names the pixel and the defined classes.
     spec.classes.pop_back();
@@ -118,7 +114,7 @@ TEST(TextureClasses, MapLookupRemapAndUnknownClass) {
 }
 
 TEST(TextureClasses, FloatMapIsRefused) {
-    const fs::path dir = tempDir("texture_classes_float");
-    writeImage(dir / "classes.tif", 2, 2, 1, std::vector<float>{0, 1, 2, 3}, OIIO::TypeDesc::FLOAT);
+    const fs::path dir = testing_support::scratchDir("scenegen", "texture_classes_float");
+    writeImage(dir / "classes.tif", 2, 2, 1, std::vector<float>{0, 1, 2, 3}, imageio::PixelType::Float);
     EXPECT_THROW(readClassMap(dir / "classes.tif", {0, 0, 1, 1}), InputError);
 }

@@ -31,9 +31,11 @@
 #include <cmath>
 #include <functional>
 
+#include "core/units.h"
+
 namespace littoral::testing_support::glint {
 
-inline constexpr double kPi = 3.14159265358979323846;
+using littoral::kPi;  // the same constant (one entity, so files that also use namespace littoral agree)
 inline constexpr double kWaterIndex = 1.34;  // n_w of the dissertation (Ch. 4)
 
 struct Dir {

@@ -30,9 +30,11 @@
 #include <cmath>
 #include <vector>
 
+#include "core/units.h"
+
 namespace littoral::testing_support::sinusoid {
 
-inline constexpr double kPi = 3.14159265358979323846;
+using littoral::kPi;  // the same constant (one entity, so files that also use namespace littoral agree)
 
 struct Wave {
     double amplitude = 2.0;    // A, m
