@@ -88,6 +88,29 @@ Reader::Reader(const std::filesystem::path& path) {
 
 Reader::~Reader() = default;
 
+bool Header::storedAs(PixelType type) const {
+    switch (type) {
+        case PixelType::UInt8: return storedType == "uint8";
+        case PixelType::UInt16: return storedType == "uint16";
+        case PixelType::Int32: return storedType == "int";  // OpenImageIO's name for 32-bit signed
+        case PixelType::Float: return storedType == "float";
+    }
+    return false;
+}
+
+bool Reader::readIndices(uint16_t* dst) {
+    const size_t n = static_cast<size_t>(header_.width) * static_cast<size_t>(header_.height);
+    if (header_.storedAs(PixelType::UInt16)) return read(1, PixelType::UInt16, dst);
+    if (!header_.storedAs(PixelType::UInt8)) {
+        error_ = "not an 8- or 16-bit unsigned integer image (" + header_.storedType + ")";
+        return false;
+    }
+    std::vector<uint8_t> bytes(n);
+    if (!read(1, PixelType::UInt8, bytes.data())) return false;
+    std::copy(bytes.begin(), bytes.end(), dst);
+    return true;
+}
+
 bool Reader::read(int channels, PixelType type, void* dst) {
     std::string error;
     if (backend_ && backend_->read(channels, type, dst, error)) return true;

@@ -29,12 +29,13 @@ struct Attribute {
 struct Header {
     int width = 0, height = 0, channels = 0;
     std::string storedType;  // the file's pixel type as OpenImageIO names it: "uint8", "half", ...
-    bool storedUInt8 = false, storedUInt16 = false;
     std::vector<std::string> channelNames;
     std::vector<Attribute> attributes;  // every attribute of the header but the channel names
 
     // The value of the string attribute `name`, or nullptr.
     const std::string* stringAttribute(const std::string& name) const;
+    // Whether the file stores its pixels as `type` (read from storedType).
+    bool storedAs(PixelType type) const;
 };
 
 class ReaderBackend;
@@ -53,6 +54,10 @@ class Reader {
     // Channels [0, channels) of every pixel, converted to `type`, interleaved, into `dst` (room for
     // width x height x channels values). False, with error() set, if the pixels cannot be decoded.
     bool read(int channels, PixelType type, void* dst);
+    // Channel 0 of an image stored as 8- or 16-bit unsigned integers (a class or index map), in the
+    // file's own type widened to 16 bits: asked for 16 bits, OpenImageIO would rescale 8-bit values
+    // (1 -> 257). Needs header().storedAs(UInt8) or storedAs(UInt16); false, with error(), else.
+    bool readIndices(uint16_t* dst);
 
   private:
     std::unique_ptr<ReaderBackend> backend_;

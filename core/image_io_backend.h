@@ -27,7 +27,7 @@ class Backend {
 };
 
 // Bumped whenever Backend, ReaderBackend, Header or WriteSpec change: a stale plugin is refused.
-inline constexpr int kBackendVersion = 1;
+inline constexpr int kBackendVersion = 2;
 
 }  // namespace littoral::imageio
 

@@ -57,8 +57,6 @@ class OiioBackend final : public Backend {
         header.height = spec.height;
         header.channels = spec.nchannels;
         header.storedType = spec.format.c_str();
-        header.storedUInt8 = spec.format.basetype == OIIO::TypeDesc::UINT8;
-        header.storedUInt16 = spec.format.basetype == OIIO::TypeDesc::UINT16;
         header.channelNames = spec.channelnames;
         for (const OIIO::ParamValue& p : spec.extra_attribs) {
             const Attribute::Kind kind = kindOf(p);

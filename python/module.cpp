@@ -64,7 +64,7 @@ py::dict rasterDict(const std::string& path) {
     imageio::Reader in(path);
     if (!in.ok()) throw InputError(SourceLoc{path}, "cannot read the image: " + in.error());
     const imageio::Header spec = in.header();
-    const bool bytes = spec.storedUInt8;
+    const bool bytes = spec.storedAs(imageio::PixelType::UInt8);
     const size_t n = static_cast<size_t>(spec.width) * spec.height * spec.channels;
     py::dict d;
     auto planes = [&](auto* pixels, auto arr, imageio::PixelType type) {

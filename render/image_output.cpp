@@ -28,11 +28,6 @@ namespace {
 constexpr const char* kRadianceUnits = "W m^-2 sr^-1 um^-1";
 constexpr const char* kQuantity = "band-averaged spectral radiance";
 
-// Every image reaches the disk through core/image_io.h (encoded in memory, written atomically).
-void writeImage(const fs::path& target, const imageio::WriteSpec& spec, const void* data) {
-    imageio::writeFile(target, spec, data);
-}
-
 // Band centres and widths in an ENVI header: 12 significant digits, so 0.5 - 0.4 prints as 0.1
 // rather than its binary neighbour 0.09999999999999998 (a picometre is far below any band edge).
 std::string headerNumber(double v) {
@@ -152,7 +147,7 @@ void writeExr(const fs::path& path, const Film& film, const std::map<std::string
     spec.attributes.emplace_back("littoral:band_lo_um", joinCommas(lo));
     spec.attributes.emplace_back("littoral:band_hi_um", joinCommas(hi));
     for (const auto& [k, v] : metadata) spec.attributes.emplace_back("littoral:" + k, v);
-    writeImage(path, spec, film.pixels.data());
+    imageio::writeFile(path, spec, film.pixels.data());
 }
 
 Film readExr(const fs::path& path, std::map<std::string, std::string>* metadata) {
@@ -508,7 +503,7 @@ void writePngPreview(const fs::path& path, const Film& film, const PreviewOption
     spec.attributes.emplace_back("ImageDescription",
                    fmt::format("Littoral preview: white = {} {}, gamma = {}, blur sigma = {} px", white, kRadianceUnits,
                                o.gamma, o.blurSigma));
-    writeImage(path, spec, bytes.data());
+    imageio::writeFile(path, spec, bytes.data());
 }
 
 std::vector<std::array<float, 3>> linearSrgbPixels(const Film& film) {
@@ -557,7 +552,7 @@ void writeTrueColourPng(const fs::path& path, const Film& film, const PreviewOpt
                    fmt::format("Littoral true-colour preview: CIE 1931 XYZ of the band radiances, sRGB (D65, no "
                                "chromatic adaptation); linear white = {} {} (as Y of a flat spectrum), blur sigma = {} px",
                                white, kRadianceUnits, o.blurSigma));
-    writeImage(path, spec, bytes.data());
+    imageio::writeFile(path, spec, bytes.data());
 }
 
 void writeEnviLayers(const fs::path& imgPath, int width, int height, const std::vector<std::string>& names,
@@ -629,7 +624,7 @@ void writeTruthExr(const fs::path& path, const TruthImages& t, const std::vector
         }
         spec.attributes.emplace_back("littoral:materials", joinCommas(escaped));
     }
-    writeImage(path, spec, data.data());
+    imageio::writeFile(path, spec, data.data());
 }
 
 TruthImages readTruthExr(const fs::path& path) {
@@ -661,7 +656,7 @@ void writeMaterialIdTiff(const fs::path& path, const TruthImages& t) {
     spec.channelNames = {"materialId"};
     spec.attributes.emplace_back("compression", "zip");
     spec.attributes.emplace_back("ImageDescription", "Littoral material id per pixel (index into the IR materials, -1 = nothing hit)");
-    writeImage(path, spec, t.materialId.data());
+    imageio::writeFile(path, spec, t.materialId.data());
 }
 
 std::vector<int32_t> readMaterialIdTiff(const fs::path& path, int* width, int* height) {
@@ -714,7 +709,7 @@ void writeMaterialIdPng(const fs::path& path, const TruthImages& t) {
     spec.attributes.emplace_back("Software", "Littoral");
     spec.attributes.emplace_back("ImageDescription", "Littoral material of the first opaque surface seen through the water, false "
                                        "colour (black = nothing); the legend is NAME_legend.csv");
-    writeImage(path, spec, bytes.data());
+    imageio::writeFile(path, spec, bytes.data());
 }
 
 std::string truthLegendCsv(const TruthImages& t, const std::vector<std::string>& names,

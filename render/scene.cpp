@@ -22,7 +22,7 @@ std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) 
         imageio::Reader in(path);
         if (!in.ok()) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in.error()));
         const imageio::Header& spec = in.header();
-        if (spec.channels != 1 || (!spec.storedUInt8 && !spec.storedUInt16))
+        if (spec.channels != 1 || (!spec.storedAs(imageio::PixelType::UInt8) && !spec.storedAs(imageio::PixelType::UInt16)))
             throw InputError(fmt::format("{}: a class map must be a single-channel 8- or 16-bit integer image ({} channels, {})",
                                          path.string(), spec.channels, spec.storedType));
         auto r = std::make_shared<ClassRaster>();
@@ -31,16 +31,7 @@ std::shared_ptr<ClassRaster> loadClassRaster(const std::filesystem::path& path) 
         if (r->width <= 0 || r->height <= 0) throw InputError(fmt::format("{}: class map has no pixels", path.string()));
         const size_t n = static_cast<size_t>(r->width) * r->height;
         r->values.resize(n);
-        // Read in the file's own integer type: OIIO would rescale 8-bit values if asked for 16 bits.
-        bool ok = false;
-        if (spec.storedUInt8) {
-            std::vector<uint8_t> buf(n);
-            ok = in.read(1, imageio::PixelType::UInt8, buf.data());
-            std::copy(buf.begin(), buf.end(), r->values.begin());
-        } else {
-            ok = in.read(1, imageio::PixelType::UInt16, r->values.data());
-        }
-        if (!ok) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in.error()));
+        if (!in.readIndices(r->values.data())) throw InputError(fmt::format("{}: cannot read class map: {}", path.string(), in.error()));
         return r;
     });
 }

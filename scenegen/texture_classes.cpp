@@ -86,7 +86,7 @@ ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Exten
                                                 spec.channels));
         requireMemory(4.0 * double(spec.width) * double(spec.height),
                       fmt::format("a classification map of {} x {} px would", spec.width, spec.height), where);
-        if (!spec.storedUInt8 && !spec.storedUInt16)
+        if (!spec.storedAs(imageio::PixelType::UInt8) && !spec.storedAs(imageio::PixelType::UInt16))
             throw InputError(where, fmt::format("classification map must hold 8- or 16-bit unsigned integer class indices; "
                                                 "this image is {}",
                                                 spec.storedType));
@@ -96,15 +96,7 @@ ClassMap readClassMap(const std::filesystem::path& path, const bathymetry::Exten
         m.extent = extent;
         const size_t n = static_cast<size_t>(m.width) * m.height;
         m.value.resize(n);
-        // Read channel 0 in the file's own integer type so the indices are not rescaled.
-        if (spec.storedUInt8) {
-            std::vector<uint8_t> buf(n);
-            if (!in.read(1, imageio::PixelType::UInt8, buf.data()))
-                throw InputError(where, "cannot read classification map: " + in.error());
-            std::copy(buf.begin(), buf.end(), m.value.begin());
-        } else if (!in.read(1, imageio::PixelType::UInt16, m.value.data())) {
-            throw InputError(where, "cannot read classification map: " + in.error());
-        }
+        if (!in.readIndices(m.value.data())) throw InputError(where, "cannot read classification map: " + in.error());
         return m;
     });
 }

@@ -118,3 +118,13 @@ TEST(TextureClasses, FloatMapIsRefused) {
     writeImage(dir / "classes.tif", 2, 2, 1, std::vector<float>{0, 1, 2, 3}, imageio::PixelType::Float);
     EXPECT_THROW(readClassMap(dir / "classes.tif", {0, 0, 1, 1}), InputError);
 }
+
+// A 16-bit map keeps indices above 255 as they are, and an 8-bit one is not rescaled to 16 bits
+// (OpenImageIO would turn 7 into 7 x 257 = 1799 if asked for 16-bit values).
+TEST(TextureClasses, SixteenBitIndicesAreReadAsStoredAndEightBitOnesAreNotRescaled) {
+    const fs::path dir = testing_support::scratchDir("scenegen", "texture_classes_16bit");
+    writeImage(dir / "classes16.png", 2, 1, 1, std::vector<uint16_t>{300, 4000}, imageio::PixelType::UInt16);
+    EXPECT_EQ(readClassMap(dir / "classes16.png", {0, 0, 2, 1}).value, (std::vector<uint16_t>{300, 4000}));
+    writeImage(dir / "classes8.png", 2, 1, 1, std::vector<uint8_t>{7, 255}, imageio::PixelType::UInt8);
+    EXPECT_EQ(readClassMap(dir / "classes8.png", {0, 0, 2, 1}).value, (std::vector<uint16_t>{7, 255}));
+}
