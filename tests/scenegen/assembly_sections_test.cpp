@@ -6,6 +6,8 @@
 
 #include "core/units.h"
 #include "scenegen/assembly_sections.h"
+#include "scenegen/surface_section.h"
+#include "surfaces/wave_surface.h"
 
 using namespace littoral;
 using namespace littoral::scenegen;
@@ -111,4 +113,22 @@ TEST(AssemblySections, TextureClassesChecks) {
     const TextureClassesSpec t = parseTextureClasses(ok["texture_classes"]);
     EXPECT_NEAR(t.classes[0].reflectance.at(0.55), 0.3, 1e-12);
     EXPECT_FALSE(t.extent.has_value());
+}
+
+// A flat water.surface needs no resolution: without spacing and triangles it takes the coarse grid
+// of an omitted surface (a quarter of the shorter side, kept whole); given, both are honoured.
+TEST(AssemblySections, FlatSurfaceTakesACoarseGridUnlessItsResolutionIsGiven) {
+    const auto bare = YamlNode::loadString("surface: {model: flat, size: [80, 40]}\n", "s.yaml");
+    const surfaces::WaveParams p = parseWaterSurface(bare["surface"]);
+    EXPECT_DOUBLE_EQ(p.spacing, 10.0);
+    EXPECT_EQ(p.triangles, 0u);
+    const auto given = YamlNode::loadString("surface: {model: flat, size: 40, spacing: 0.5, triangles: 100}\n", "s.yaml");
+    const surfaces::WaveParams q = parseWaterSurface(given["surface"]);
+    EXPECT_DOUBLE_EQ(q.spacing, 0.5);
+    EXPECT_EQ(q.triangles, 100u);
+    // Other models keep the documented defaults (0.25 m; 30 000 triangles).
+    const auto waves = YamlNode::loadString("surface: {model: beaufort, wind_speed: 5, size: 40}\n", "s.yaml");
+    const surfaces::WaveParams w = parseWaterSurface(waves["surface"]);
+    EXPECT_DOUBLE_EQ(w.spacing, 0.25);
+    EXPECT_EQ(w.triangles, surfaces::kDefaultTriangles);
 }
