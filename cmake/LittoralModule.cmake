@@ -11,3 +11,13 @@ function(littoral_module name)
   add_library(littoral::${name} ALIAS littoral_${name})
   target_include_directories(littoral_${name} PUBLIC ${PROJECT_SOURCE_DIR})
 endfunction()
+
+# littoral_cold_sources(file...): code that reads and writes small text files (the Scene IR's JSON,
+# the scene file's YAML) or glues the commands together spends its build time in the optimiser and
+# its run time elsewhere, so optimised builds compile it at -O1 (the Scene IR: 24 -> 18 CPU-s; a
+# unity file of the commands: 30 -> 18). A file belongs here only if none of its loops runs per
+# ray, photon, sample, pixel or mesh element. Call it in the folder whose target compiles the files.
+set(LITTORAL_COLD_OPT "$<$<CONFIG:Release,RelWithDebInfo,MinSizeRel>:-O1>")
+function(littoral_cold_sources)
+  set_source_files_properties(${ARGN} PROPERTIES COMPILE_OPTIONS "${LITTORAL_COLD_OPT}")
+endfunction()
