@@ -14,6 +14,7 @@
 //    photon map cell by cell, and its mean against the transmitted flux and the flat-water value.
 // 6. The path estimator's nadir view of a sandy floor under that surface, with the connection and
 //    without any in-water sun estimate (the disc found by the sampled rays alone).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -230,7 +231,7 @@ TEST(FacetBeams, ProbesUnderAWavySurfaceMatchABruteForceSumOverFacets) {
         std::vector<Point3> ps;
         for (int i = 0; i < 5; ++i)
             for (int j = 0; j < 5; ++j) ps.push_back({-L + (i + 0.37) * 0.8, -L + (j + 0.61) * 0.8, -depth});
-        for (size_t k = 0; k < ps.size(); ++k) s.probes.push_back(edProbe("p" + std::to_string(k), ps[k]));
+        for (size_t k = 0; k < ps.size(); ++k) s.probes.push_back(edProbe(fmt::format("p{}", k), ps[k]));
         const Scene scene(s, ".");
         const EstimatorSet est(scene);
         for (size_t k = 0; k < ps.size(); ++k) {
@@ -262,7 +263,7 @@ TEST(FacetBeams, MeanIrradianceUnderWavesIsTheTransmittedFlux) {
     const double expected = transmittedFluxPerArea(s, L);
     std::mt19937_64 rng(2026);
     std::uniform_real_distribution<double> u(-L, L);
-    for (int k = 0; k < 100000; ++k) s.probes.push_back(edProbe("g" + std::to_string(k), {u(rng), u(rng), -1.5}));
+    for (int k = 0; k < 100000; ++k) s.probes.push_back(edProbe(fmt::format("g{}", k), {u(rng), u(rng), -1.5}));
     const Scene scene(s, ".");
     const EstimatorSet est(scene);
     double sum = 0, sq = 0;
