@@ -119,8 +119,8 @@ std::string validityText(const nlohmann::json& v) {
     return v.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
-// water.surface omitted: a flat surface over the domain (docs/scene-format.md). A flat surface
-// needs no resolution, so the grid is coarse (four cells across the shorter side) and kept whole.
+// water.surface omitted: a flat surface over the domain (docs/scene-format.md), on flatSpacing's
+// coarse grid, kept whole.
 surfaces::WaveParams defaultWaterSurface(const bathymetry::Extent& d) {
     surfaces::WaveParams p;
     p.model = surfaces::WaveModel::Flat;
@@ -129,7 +129,7 @@ surfaces::WaveParams defaultWaterSurface(const bathymetry::Extent& d) {
     p.sizeY = d.height();
     p.centreX = 0.5 * (d.x0 + d.x1);
     p.centreY = 0.5 * (d.y0 + d.y1);
-    p.spacing = 0.25 * std::min(d.width(), d.height());
+    p.spacing = flatSpacing(p);
     p.triangles = 0;
     return p;
 }

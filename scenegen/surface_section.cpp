@@ -143,11 +143,10 @@ surfaces::WaveParams readWaterSurfaceKeys(const YamlNode& n) {
     refuseKeysOfOtherModels(n, kind);
     parseModelKeys(n, kind, p);
     parseGrid(n, p);
-    // A plane needs no resolution: without `spacing` and `triangles`, flat takes the grid an
-    // omitted water.surface has (four cells across the shorter side, kept whole) rather than 1.44 M
-    // samples of z = 0 decimated to 30 000 triangles, which took about 1.3 CPU-s of every such run.
+    // flatSpacing's grid rather than 1.44 M samples of z = 0 decimated to 30 000 triangles, which
+    // took about 1.3 CPU-s of every run of a flat sea.
     if (p.model == surfaces::WaveModel::Flat) {
-        if (!n.has("spacing")) p.spacing = 0.25 * std::min(p.sizeX, p.sizeY);
+        if (!n.has("spacing")) p.spacing = flatSpacing(p);
         if (!n.has("triangles")) p.triangles = 0;
     }
     return p;

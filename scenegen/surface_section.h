@@ -3,6 +3,7 @@
 // (every key checked, ranges enforced, errors at file:line:column). The keys of each model, their
 // defaults and ranges are its descriptor's (surfaces/wave_kinds.h); docs/scene-format.md lists
 // them, docs/waves.md, "Scene file: water.surface", explains them.
+#include <algorithm>
 #include <optional>
 
 #include "core/scene_ir.h"
@@ -18,6 +19,11 @@ surfaces::WaveParams parseWaterSurface(const YamlNode& node);
 // defaults), as the model's descriptor (surfaces/wave_kinds.h) gives them; no check that combines
 // keys. Throws InputError at the key.
 surfaces::WaveParams readWaterSurfaceKeys(const YamlNode& node);
+// The grid of a flat surface, which needs no resolution: four cells across the shorter side of
+// p's size, kept whole (32 triangles that hold the plane exactly). An omitted water.surface has it,
+// and so has `model: flat` where the file gives no `spacing` or `triangles`.
+constexpr double kFlatCellsAcross = 4;
+inline double flatSpacing(const surfaces::WaveParams& p) { return std::min(p.sizeX, p.sizeY) / kFlatCellsAcross; }
 
 // `water.surface.roughness`: roughness below the mesh's resolution (the dissertation's sub-pixel
 // capillary waves), as the Cox–Munk microfacet interface of render/rough_dielectric.h on every
