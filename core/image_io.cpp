@@ -99,13 +99,12 @@ bool Header::storedAs(PixelType type) const {
 }
 
 bool Reader::readIndices(uint16_t* dst) {
-    const size_t n = static_cast<size_t>(header_.width) * static_cast<size_t>(header_.height);
     if (header_.storedAs(PixelType::UInt16)) return read(1, PixelType::UInt16, dst);
     if (!header_.storedAs(PixelType::UInt8)) {
         error_ = "not an 8- or 16-bit unsigned integer image (" + header_.storedType + ")";
         return false;
     }
-    std::vector<uint8_t> bytes(n);
+    std::vector<uint8_t> bytes(static_cast<size_t>(header_.width) * static_cast<size_t>(header_.height));
     if (!read(1, PixelType::UInt8, bytes.data())) return false;
     std::copy(bytes.begin(), bytes.end(), dst);
     return true;
