@@ -4,7 +4,8 @@
 // bisection), side by side in one run: Petzold's table, one band, one thread, at two mixes of
 // angles. "sampled": t of directions drawn from Petzold's phase function itself (most within a
 // few degrees: what a photon's next direction and the sun's forward peak ask); "uniform": t uniform
-// in [0, 2) (a beam query's photons seen from arbitrary view directions).
+// in [0, 2) (a beam query's photons seen from arbitrary view directions). BM_SampleTable times the
+// table's sampling (1 - cos from a uniform number).
 // Run: build/bin/bench_phase
 #include <benchmark/benchmark.h>
 
@@ -62,8 +63,24 @@ void BM_TableItself(benchmark::State& st) {
     st.SetLabel(st.range(0) == 1 ? "sampled" : "uniform");
 }
 
+// Drawing 1 - cos from the table (TabulatedPhase::sampleOneMinusCos, an exact inversion of its
+// piecewise-linear density): what every collision of a photon or a path in Petzold water asks.
+void BM_SampleTable(benchmark::State& st) {
+    const auto table = petzoldAverageParticleTable();
+    std::vector<double> u(1 << 20);
+    std::mt19937_64 gen(2);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    for (double& x : u) x = U(gen);
+    double sum = 0;
+    for (auto _ : st)
+        for (double x : u) sum += table->sampleOneMinusCos(x);
+    benchmark::DoNotOptimize(sum);
+    st.SetItemsProcessed(static_cast<int64_t>(st.iterations()) * static_cast<int64_t>(u.size()));
+}
+
 }  // namespace
 
 BENCHMARK(BM_LayerPhase)->Arg(1)->Arg(0);
 BENCHMARK(BM_TableItself)->Arg(1)->Arg(0);
+BENCHMARK(BM_SampleTable);
 BENCHMARK_MAIN();

@@ -175,7 +175,10 @@ void PhotonTracer::trace(uint64_t index, ChunkResult& out, const EmissionImporta
 }
 
 void PhotonTracer::walk(Ray ray, Spec w, RandomStream& rng, ChunkResult& out, PhotonObserver* observer) const {
-    Pending pending;  // allocates only when a photon splits
+    // The copies still to walk: one list per thread, kept from photon to photon (a list per photon
+    // allocated and freed once for every photon that split).
+    static thread_local Pending pending;
+    pending.clear();
     State first;
     first.ray = ray, first.w = w;
     walkFrom(first, rng, out, observer, pending);

@@ -161,7 +161,9 @@ TEST(ForwardTallies, ASmallPeriodicDomainGivesTheSameColumn) {
 // plane, and the forward pilot (6.5 % predicted at the full budget) does not see the rare heavy
 // arrivals that gave the full forward run 26 %. A forward prediction above 5 % is not trusted, so
 // backward paths answer (measured 6.7 %, within 0.3 se of the column solver), and the reason is
-// logged. Ed at tau 1 still goes forward (0.034 % predicted).
+// logged. The distrust is the plane's own: Ed at tau 1 is chosen by the two predictions (0.04 %
+// forward against 0.035 % backward since the splitting's exponent is 1.25; it went forward at
+// 0.034 % against more before), not refused.
 TEST(ForwardTallies, APlaneFewForwardPhotonsReachIsLeftToBackwardPaths) {
     const std::string deep =
         replacedOnce(readText(sceneFile("mobley1993/problem1_albedo02.yaml")),
@@ -171,9 +173,13 @@ TEST(ForwardTallies, APlaneFewForwardPhotonsReachIsLeftToBackwardPaths) {
     std::string printed;
     const Probes p = runProbes("few_photons", deep, "", "-q --verbose", &printed);
     EXPECT_EQ(p.at("tau10").at("Eou").method, "backward");
-    EXPECT_EQ(p.at("tau1").at("Ed").method, "forward");
     EXPECT_NE(printed.find("probe tau10 Eou: backward (too few forward photons reach its plane"), std::string::npos)
         << printed;
+    const size_t ed1 = printed.find("probe tau1 Ed: ");
+    ASSERT_NE(ed1, std::string::npos) << printed;
+    const std::string ed1Line = printed.substr(ed1, printed.find('\n', ed1) - ed1);
+    EXPECT_NE(ed1Line.find("the pilot predicts a relative standard error of"), std::string::npos) << ed1Line;
+    EXPECT_EQ(ed1Line.find("too few forward photons"), std::string::npos) << ed1Line;
     expectColumnAgreement(p, scene, {{"tau10", 10}}, "10", {3, 0.1, {"Eou"}});
 }
 
