@@ -1,10 +1,17 @@
 // Building the synthetic coastal site with a 30,000-triangle wave surface, the seabed and all
 // objects, every validity check included (issue 4 benchmark). Reports wall time per stage as
-// counters (seconds). Run: build/bin/bench_build --benchmark_counters_tabular=true
+// counters (seconds). BM_BuildFlatSea builds Mobley's problem 2 (a flat sea over a periodic
+// column) as its scene file has it (`surface: {model: flat}`: a grid of four cells) and with the
+// grid every model had before a flat sea got its own (300 m at 0.25 m, decimated to 30 000
+// triangles), side by side. Run: build/bin/bench_build --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 
+#include "core/progress.h"
 #include "render/estimator_settings.h"
 #include "scenegen/assemble.h"
 #include "scenegen/synthetic_site.h"
@@ -68,6 +75,34 @@ void BM_BuildSyntheticSite(benchmark::State& state) {
     state.counters["interface_faces"] = static_cast<double>(surfaceFaces);
 }
 BENCHMARK(BM_BuildSyntheticSite)->Unit(benchmark::kSecond)->Iterations(2);
+
+void BM_BuildFlatSea(benchmark::State& state) {
+    littoral::render::registerEstimatorKinds();
+    littoral::Progress::setEnabled(false);  // the old grid's wave stages would print progress
+    std::ifstream in(fs::path(LITTORAL_SOURCE_DIR_BENCH) / "data_synthetic" / "mobley1993" / "problem2_albedo09.yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string scene = text.str();
+    const std::string flat = "surface: {model: flat}";
+    const size_t at = scene.find(flat);
+    if (at == std::string::npos) {
+        state.SkipWithError("problem2_albedo09.yaml no longer has a flat surface");
+        return;
+    }
+    if (state.range(0) == 1) scene.replace(at, flat.size(), "surface: {model: flat, size: 300, spacing: 0.25, triangles: 30000}");
+    const fs::path dir = fs::temp_directory_path() / "littoral_bench_build_flat";
+    fs::create_directories(dir);
+    std::ofstream(dir / "scene.yaml") << scene;
+    size_t waterFaces = 0;
+    for (auto _ : state) {
+        const AssembledScene s = buildScene(dir / "scene.yaml", dir / "ir");
+        if (!s.valid) state.SkipWithError("the flat sea failed its validity checks");
+        waterFaces = s.ir.findMesh("water")->data.numTriangles();
+    }
+    state.counters["water_faces"] = static_cast<double>(waterFaces);
+    state.SetLabel(state.range(0) == 1 ? "the old grid: 300 m at 0.25 m, 30000 triangles" : "flat: four cells");
+}
+BENCHMARK(BM_BuildFlatSea)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(4);
 
 }  // namespace
 
