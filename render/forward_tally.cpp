@@ -36,8 +36,9 @@ constexpr uint64_t kChunk = 4096;  // photons per chunk (one task; sums added in
 // the deep planes with its weight instead of ending early (survival biasing; unbiased either way).
 // The splitting's importance is the profile's (E(shallowest) / E(z))^kImportanceExponent. Both were
 // chosen by the time to 1 % of the worst cell (bench_forward_column, 2 x 10^6 photons, 200 batches):
-// on problem 2 at albedo 0.9, a window from 0.5 and the exponent 1.25 took 25-35 % off it against
-// 0.25 and 1 (the worst se 0.384 -> 0.328 %), and neither the stratified column nor problem 5
+// on problem 2 at albedo 0.9, a window from 0.5 and the exponent 1.25 took 25-30 % off it against
+// 0.25 and 1 at 1-2 x 10^6 photons (the worst se 0.384 -> 0.328 % at 2 x 10^6), 8 % at 4 x 10^6
+// (where Eou at tau 5 becomes the worst cell), and neither the stratified column nor problem 5
 // lost (docs/performance.md). A lower window (0.25, 0.35) walks low-weight photons that add little;
 // a higher one (0.7, 1) or a larger exponent (1.5, 2) cuts or splits more than the cells gain.
 constexpr double kRouletteBelow = 0.5;
