@@ -7,10 +7,9 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "core/atomic_file.h"
 #include "core/progress.h"
 #include "render/estimator_settings.h"
 #include "scenegen/assemble.h"
@@ -79,10 +78,8 @@ BENCHMARK(BM_BuildSyntheticSite)->Unit(benchmark::kSecond)->Iterations(2);
 void BM_BuildFlatSea(benchmark::State& state) {
     littoral::render::registerEstimatorKinds();
     littoral::Progress::setEnabled(false);  // the old grid's wave stages would print progress
-    std::ifstream in(fs::path(LITTORAL_SOURCE_DIR_BENCH) / "data_synthetic" / "mobley1993" / "problem2_albedo09.yaml");
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string scene = text.str();
+    std::string scene =
+        littoral::readTextFile(fs::path(LITTORAL_SOURCE_DIR_BENCH) / "data_synthetic" / "mobley1993" / "problem2_albedo09.yaml");
     const std::string flat = "surface: {model: flat}";
     const size_t at = scene.find(flat);
     if (at == std::string::npos) {
@@ -90,9 +87,11 @@ void BM_BuildFlatSea(benchmark::State& state) {
         return;
     }
     if (state.range(0) == 1) scene.replace(at, flat.size(), "surface: {model: flat, size: 300, spacing: 0.25, triangles: 30000}");
-    const fs::path dir = fs::temp_directory_path() / "littoral_bench_build_flat";
+    // A folder per variant: a scene file one variant has built is an input of this process, which
+    // writeFileAtomic then refuses to replace.
+    const fs::path dir = fs::temp_directory_path() / ("littoral_bench_build_flat" + std::to_string(state.range(0)));
     fs::create_directories(dir);
-    std::ofstream(dir / "scene.yaml") << scene;
+    littoral::writeFileAtomic(dir / "scene.yaml", scene);
     size_t waterFaces = 0;
     for (auto _ : state) {
         const AssembledScene s = buildScene(dir / "scene.yaml", dir / "ir");
