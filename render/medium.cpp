@@ -174,6 +174,13 @@ FreeFlight Medium::sampleFreeFlight(const Ray& r, double tMax, BandGroup g, doub
             if (l.c[g.begin + i] > 0) tau[i] += l.c[g.begin + i] * dt;
     });
     ff.weight = Spec(n, 0.0);
+    if (n == 1) {
+        // One band: the weights below are T b / (c T) and T / T, whatever T is (T > 0: a flight
+        // that passes has tau <= target <= 53 ln 2), so no exponential is needed.
+        ff.weight[0] = ff.scattered ? layers_[ff.layer].b[g.begin] / layers_[ff.layer].c[g.begin] : 1.0;
+        if (!ff.scattered) ff.t = tMax;
+        return ff;
+    }
     if (ff.scattered) {
         const MediumLayer& l = layers_[ff.layer];
         double pdf = 0;
