@@ -13,7 +13,8 @@
 //     and of a beam segment, bytes per photon and peak RSS. Each size runs in its own process
 //     (fork) so that its peak RSS is its own.
 //
-// Usage: bench_photons [--quick] [--throughput] [--threads N]
+// Usage: bench_photons [--quick] [--throughput] [--scaling-only] [--sizes N1,N2,...] [--threads N]
+// (--scaling-only skips part 1; --sizes sets part 2's photon counts, default 1 M to 100 M.)
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -223,14 +225,36 @@ void scalingRow(uint64_t n, int threads) {
 int main(int argc, char** argv) {
     Progress::setEnabled(false);
     log::setLevel(log::Level::Warn);
-    bool quick = false, onlyThroughput = false;
+    bool quick = false, onlyThroughput = false, onlyScaling = false;
     int threads = 2;
+    std::vector<uint64_t> chosen;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--quick")) quick = true;
         else if (!std::strcmp(argv[i], "--throughput")) onlyThroughput = true;
+        else if (!std::strcmp(argv[i], "--scaling-only")) onlyScaling = true;
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc) {
+            for (const char* p = argv[++i]; *p;) {
+                char* end = nullptr;
+                const unsigned long long v = std::strtoull(p, &end, 10);
+                if (end == p || v == 0) {
+                    std::fprintf(stderr, "--sizes: expected photon counts separated by commas, found '%s'\n", argv[i]);
+                    return 1;
+                }
+                chosen.push_back(v);
+                p = *end == ',' ? end + 1 : end;
+                if (*end && *end != ',') {
+                    std::fprintf(stderr, "--sizes: expected photon counts separated by commas, found '%s'\n", argv[i]);
+                    return 1;
+                }
+            }
+        } else {
+            std::fprintf(stderr, "unknown argument '%s' (usage: bench_photons [--quick] [--throughput] [--scaling-only] "
+                                 "[--sizes N1,N2,...] [--threads N])\n", argv[i]);
+            return 1;
+        }
     }
-    throughput(quick, threads);
+    if (!onlyScaling) throughput(quick, threads);
     if (onlyThroughput) return 0;
     std::printf("Map scaling at 3000 photons/m^3, 4 bands, radius 0.4 m, %d thread(s) for filling and building, "
                 "queries on one thread\n",
@@ -240,6 +264,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     std::vector<uint64_t> sizes = quick ? std::vector<uint64_t>{1'000'000, 3'000'000}
                                         : std::vector<uint64_t>{1'000'000, 3'000'000, 10'000'000, 30'000'000, 100'000'000};
+    if (!chosen.empty()) sizes = chosen;
     for (uint64_t n : sizes) {
         const pid_t pid = fork();
         if (pid == 0) {
