@@ -237,16 +237,12 @@ int main(int argc, char** argv) {
             for (const char* p = argv[++i]; *p;) {
                 char* end = nullptr;
                 const unsigned long long v = std::strtoull(p, &end, 10);
-                if (end == p || v == 0) {
+                if (end == p || v == 0 || (*end && *end != ',')) {
                     std::fprintf(stderr, "--sizes: expected photon counts separated by commas, found '%s'\n", argv[i]);
                     return 1;
                 }
                 chosen.push_back(v);
-                p = *end == ',' ? end + 1 : end;
-                if (*end && *end != ',') {
-                    std::fprintf(stderr, "--sizes: expected photon counts separated by commas, found '%s'\n", argv[i]);
-                    return 1;
-                }
+                p = *end ? end + 1 : end;
             }
         } else {
             std::fprintf(stderr, "unknown argument '%s' (usage: bench_photons [--quick] [--throughput] [--scaling-only] "
